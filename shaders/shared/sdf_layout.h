@@ -1,0 +1,84 @@
+// The brick, page-table and ray/hit formats shared by the importer, the cascade builder, the
+// CPU reference tracer and the trace shader. One definition (STYLE.md habit 1); sizes are
+// static_asserted below and checked against the shader's view by tests.
+//
+// Coordinate spaces
+//  - World index space: voxel (i,j,k) is the sample at world position worldOrigin + voxelSize*(i,j,k)
+//    (OpenVDB's convention: samples sit at integer index coordinates).
+//  - Brick b covers index cells [8b, 8b+8) on each axis. It stores 9 samples per axis
+//    (8b .. 8b+8): the extra "apron" sample lets trilinear interpolation inside the brick
+//    read only that brick (ARCHITECTURE.md, "Brick: 8³ distance samples plus an apron").
+//  - Cascade space: a cascade is 128³ cells = 16³ pages of one brick each. Positions handed to
+//    the GPU are floats in cascade voxel units relative to the cascade's minimum corner, so the
+//    GPU never sees large world coordinates.
+#ifndef SDFSTREAM_SDF_LAYOUT_H
+#define SDFSTREAM_SDF_LAYOUT_H
+
+#include "shaders/shared/glsl_cpp.h"
+
+SDF_BEGIN_NAMESPACE
+
+SDF_CONST uint kBrickCells = 8;             // cells per brick edge
+SDF_CONST uint kBrickSamples = 9;           // samples per brick edge (cells + apron)
+SDF_CONST uint kBrickSampleCount = 729;     // 9³ distance samples
+SDF_CONST uint kBrickDistanceWords = 365;   // 729 fp16 values packed two per uint (last half unused)
+SDF_CONST uint kBrickMaterialCount = 512;   // 8³ material voxels, one per cell (cell-centred)
+
+// Distances are stored in voxel units (distance / voxelSize), fp16, clamped to +-kNarrowBand.
+// Three voxels is OpenVDB's default half-width (LEVEL_SET_HALF_WIDTH) and enough for the
+// sign and gradient of a sphere trace; farther space is handled by page bounds.
+SDF_CONST float kNarrowBand = 3.0;
+
+SDF_CONST uint kCascadeCells = 128;         // cells per cascade edge
+SDF_CONST uint kCascadePages = 16;          // pages (brick slots) per cascade edge
+SDF_CONST uint kCascadePageCount = 4096;    // 16³
+
+// Page-table entry encoding (one uint per page):
+//  - bit 31 set: resident brick; bits 0..30 = atlas slot index.
+//  - bit 31 clear: no brick; bits 0..30 = conservative distance bound to the nearest surface,
+//    in whole voxels, from any point of this page (0 = only "no surface inside this page").
+SDF_CONST uint kPageResidentBit = 0x80000000u;
+SDF_CONST uint kPagePayloadMask = 0x7fffffffu;
+
+// One ray for the trace pass, in cascade voxel units (see above).
+struct TraceRay {
+  vec4 originTMin;  // xyz origin, w = tMin           (bytes 0..15)
+  vec4 dirTMax;     // xyz unit direction, w = tMax   (bytes 16..31)
+};
+
+// The trace pass's result for one ray. t < 0 means miss.
+struct TraceHit {
+  vec4 normalT;     // xyz = unit SDF gradient at the hit, w = hit distance t (or -1)  (0..15)
+  uint albedo;      // RGBA8 (sRGB-encoded base colour) of the hit cell                (16..19)
+  uint emission;    // RGB9E5 linear emission of the hit cell                          (20..23)
+  uint steps;       // sphere-tracing iterations spent (for cost metrics)              (24..27)
+  uint flags;       // kHitFlag* bits                                                  (28..31)
+};
+
+SDF_CONST uint kHitFlagHit = 1u;
+SDF_CONST uint kHitFlagRanOutOfSteps = 2u;
+
+// Push constants of trace_rays.comp.
+struct TracePushConstants {
+  uint rayCount;
+  uint maxSteps;
+  float hitEpsilon;   // in voxels: |d| below this is a hit
+  uint pad0;
+};
+
+SDF_END_NAMESPACE
+
+#ifdef __cplusplus
+static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 16);
+static_assert(sdfstream::gpu_shared::kBrickSamples * sdfstream::gpu_shared::kBrickSamples *
+                  sdfstream::gpu_shared::kBrickSamples ==
+              sdfstream::gpu_shared::kBrickSampleCount);
+static_assert((sdfstream::gpu_shared::kBrickSampleCount + 1) / 2 ==
+              sdfstream::gpu_shared::kBrickDistanceWords);
+static_assert(sdfstream::gpu_shared::kCascadePages * sdfstream::gpu_shared::kBrickCells ==
+              sdfstream::gpu_shared::kCascadeCells);
+#endif
+
+#endif

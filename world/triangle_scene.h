@@ -1,0 +1,49 @@
+// Triangles in world space with their materials: what glTF (and layout) import produce, what the
+// mesh-to-SDF step, Embree reference tests and the path tracer consume.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace sdfstream {
+
+// A decoded texture, linear 8-bit RGBA rows top to bottom as stored in the image file.
+struct Texture {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  // width*height*4, sRGB-encoded as in the file
+};
+
+struct Material {
+  glm::vec4 baseColorFactor{1.0f};  // linear, glTF pbrMetallicRoughness.baseColorFactor
+  int baseColorTexture = -1;        // index into TriangleScene::textures, or -1
+  int baseColorTexCoord = 0;        // which UV set (only 0 is imported; others fall back to factor)
+  glm::vec3 emissive{0.0f};         // linear; emissiveFactor * KHR_materials_emissive_strength
+  int emissiveTexture = -1;         // index into textures, or -1
+  std::string name;
+};
+
+struct TriangleScene {
+  std::vector<glm::vec3> positions;   // world space (all node transforms applied)
+  std::vector<glm::vec2> uvs;         // one per position (zero when the primitive has none)
+  std::vector<glm::uvec3> triangles;  // indices into positions
+  std::vector<std::uint32_t> triangleMaterial;  // one per triangle, index into materials
+  std::vector<Material> materials;    // never empty after import (a default grey is added)
+  std::vector<Texture> textures;
+  std::string source;                 // file the scene came from
+
+  glm::vec3 boundsMin() const;
+  glm::vec3 boundsMax() const;
+  double surfaceArea() const;
+};
+
+// Linear base colour (factor × texture, texture decoded from sRGB) at a point on a triangle
+// given barycentric coordinates (b1, b2) of vertices 1 and 2.
+glm::vec4 sampleAlbedo(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary);
+// Linear emission at the same point.
+glm::vec3 sampleEmission(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary);
+
+}  // namespace sdfstream
