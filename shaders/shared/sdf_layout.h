@@ -60,10 +60,11 @@ SDF_CONST uint kHitFlagRanOutOfSteps = 2u;
 
 // Push constants of trace_rays.comp.
 struct TracePushConstants {
-  uint rayCount;
-  uint maxSteps;
-  float hitEpsilon;   // in voxels: |d| below this is a hit
-  uint pad0;
+  uvec4 toroidalOffset;  // xyz = cascade origin brick mod 16 (page-table scroll), w unused (0..15)
+  uint rayCount;         //                                                       (16..19)
+  uint maxSteps;         // sphere-tracing iteration cap                          (20..23)
+  float hitEpsilon;      // in voxels: a sample below this is a hit               (24..27)
+  uint pad0;             //                                                       (28..31)
 };
 
 SDF_END_NAMESPACE
@@ -71,7 +72,7 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
-static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 32);
 static_assert(sdfstream::gpu_shared::kBrickSamples * sdfstream::gpu_shared::kBrickSamples *
                   sdfstream::gpu_shared::kBrickSamples ==
               sdfstream::gpu_shared::kBrickSampleCount);

@@ -1,0 +1,70 @@
+#include "gi/camera.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace sdfstream {
+
+std::optional<Camera> parseCamera(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    double d = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(d)) return std::nullopt;
+    v.push_back(d);
+  }
+  if (v.size() != 6 && v.size() != 7) return std::nullopt;
+  Camera c;
+  c.position = {v[0], v[1], v[2]};
+  c.target = {v[3], v[4], v[5]};
+  if (v.size() == 7) c.fovYDegrees = v[6];
+  if (glm::length(c.target - c.position) <= 0.0 || c.fovYDegrees <= 1.0 || c.fovYDegrees >= 170.0)
+    return std::nullopt;
+  return c;
+}
+
+std::string formatCamera(const Camera& c) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f", c.position.x, c.position.y,
+                c.position.z, c.target.x, c.target.y, c.target.z, c.fovYDegrees);
+  return buf;
+}
+
+Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& from,
+                   double fovYDegrees) {
+  Camera c;
+  c.target = 0.5 * (lo + hi);
+  double radius = 0.5 * glm::length(hi - lo);
+  double distance = radius / std::sin(glm::radians(fovYDegrees) * 0.5) * 1.05;
+  c.position = c.target + glm::normalize(from) * distance;
+  c.fovYDegrees = fovYDegrees;
+  return c;
+}
+
+std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, int height,
+                                              const CascadeImage& cascade) {
+  glm::dvec3 forward = glm::normalize(camera.target - camera.position);
+  glm::dvec3 upHint = std::abs(glm::dot(forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
+  glm::dvec3 right = glm::normalize(glm::cross(forward, upHint));
+  glm::dvec3 up = glm::cross(right, forward);
+  double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);
+  double aspect = double(width) / double(height);
+  glm::vec3 origin = cascade.toCascade(camera.position);
+  std::vector<gpu_shared::TraceRay> rays(std::size_t(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double u = (2.0 * (x + 0.5) / width - 1.0) * tanHalf * aspect;
+      double v = (1.0 - 2.0 * (y + 0.5) / height) * tanHalf;
+      // World and cascade axes are parallel with uniform scale, so directions carry over.
+      glm::vec3 dir(glm::normalize(forward + u * right + v * up));
+      auto& r = rays[std::size_t(y) * width + x];
+      r.originTMin = glm::vec4(origin, 0.0f);
+      r.dirTMax = glm::vec4(dir, 1e30f);
+    }
+  return rays;
+}
+
+}  // namespace sdfstream

@@ -1,0 +1,36 @@
+// A pinhole camera in world space (double precision) and the primary rays it shoots, converted
+// to cascade-relative floats (the GPU never sees world coordinates).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shaders/shared/sdf_layout.h"
+#include "streaming/cascade.h"
+
+namespace sdfstream {
+
+struct Camera {
+  glm::dvec3 position{0.0, 0.0, 5.0};
+  glm::dvec3 target{0.0};
+  glm::dvec3 up{0.0, 1.0, 0.0};
+  double fovYDegrees = 50.0;
+};
+
+// "px,py,pz,tx,ty,tz[,fov]" -> Camera; std::nullopt when malformed.
+std::optional<Camera> parseCamera(const std::string& text);
+std::string formatCamera(const Camera& camera);
+
+// A camera looking at the centre of [lo, hi] from the direction `from` (need not be unit),
+// far enough that the bounding sphere fills the view.
+Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& from,
+                   double fovYDegrees = 50.0);
+
+// One ray per pixel centre, row-major from the top-left pixel, in the cascade's voxel units.
+std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, int height,
+                                              const CascadeImage& cascade);
+
+}  // namespace sdfstream

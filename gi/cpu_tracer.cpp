@@ -1,0 +1,71 @@
+#include "gi/cpu_tracer.h"
+
+#include <tbb/parallel_for.h>
+
+#include <glm/gtc/packing.hpp>
+
+#include "shaders/shared/color_codec.h"
+
+namespace sdfstream {
+namespace cpu_trace_detail {
+using namespace glm;
+using namespace gpu_shared;
+
+// The GLSL functions become member functions; the SDF_* macros read this object's spans.
+struct CascadeTracer {
+  const std::uint32_t* pageTable;
+  const std::uint32_t* distanceAtlas;
+  const std::uint32_t* albedoAtlas;
+  const std::uint32_t* emissionAtlas;
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#include "shaders/sdf_trace.glsl"
+#undef SDF_PAGE
+#undef SDF_DIST_WORD
+#undef SDF_ALBEDO
+#undef SDF_EMISSION
+
+  // Mirrors main() of trace_rays.comp.
+  TraceHit traceOne(const TraceRay& ray, const TracePushConstants& pc) {
+    vec3 origin(ray.originTMin);
+    vec3 dir(ray.dirTMax);
+    SdfTraceResult r = sdfTrace(origin, dir, ray.originTMin.w, ray.dirTMax.w, pc.maxSteps,
+                                pc.hitEpsilon, pc.toroidalOffset);
+    TraceHit h{};
+    h.steps = r.steps;
+    h.flags = (r.hit ? kHitFlagHit : 0u) | (r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u);
+    if (r.hit) {
+      vec3 n = sdfNormal(r.position, pc.toroidalOffset);
+      h.normalT = vec4(n, r.t);
+      h.albedo = albedoAtlas[r.slot * kBrickMaterialCount + r.cell];
+      h.emission = emissionAtlas[r.slot * kBrickMaterialCount + r.cell];
+    } else {
+      h.normalT = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    }
+    return h;
+  }
+};
+}  // namespace cpu_trace_detail
+
+std::vector<gpu_shared::TraceHit> traceRaysCpu(const CascadeImage& cascade,
+                                               std::span<const gpu_shared::TraceRay> rays,
+                                               const TraceSettings& settings) {
+  cpu_trace_detail::CascadeTracer tracer{cascade.pageTable.data(), cascade.distanceAtlas.data(),
+                                         cascade.albedoAtlas.data(), cascade.emissionAtlas.data()};
+  gpu_shared::TracePushConstants pc{};
+  pc.toroidalOffset = cascade.toroidalOffset();
+  pc.rayCount = std::uint32_t(rays.size());
+  pc.maxSteps = settings.maxSteps;
+  pc.hitEpsilon = settings.hitEpsilon;
+  std::vector<gpu_shared::TraceHit> hits(rays.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
+    auto local = tracer;
+    for (std::size_t i = range.begin(); i < range.end(); ++i) hits[i] = local.traceOne(rays[i], pc);
+  });
+  return hits;
+}
+
+}  // namespace sdfstream

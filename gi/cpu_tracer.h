@@ -1,0 +1,23 @@
+// CPU reference of the trace pass: the very same math as trace_rays.comp (both include
+// shaders/sdf_trace.glsl), used by tests to check the GPU texel by texel and as a fallback.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "shaders/shared/sdf_layout.h"
+#include "streaming/cascade.h"
+
+namespace sdfstream {
+
+struct TraceSettings {
+  std::uint32_t maxSteps = 256;  // iteration cap per ray
+  float hitEpsilon = 0.02f;      // voxels; a distance sample below this is a hit
+};
+
+// Traces rays (cascade voxel units) against the cascade. Thread-safe; parallel over rays (TBB).
+std::vector<gpu_shared::TraceHit> traceRaysCpu(const CascadeImage& cascade,
+                                               std::span<const gpu_shared::TraceRay> rays,
+                                               const TraceSettings& settings);
+
+}  // namespace sdfstream

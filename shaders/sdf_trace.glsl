@@ -1,0 +1,190 @@
+// Sphere tracing through one cascade's page table and brick atlas. This file is the single
+// definition of the trace math: trace_rays.comp includes it as GLSL, and gi/cpu_tracer.cpp
+// includes it as C++ inside a struct (the CPU reference of the same math, STYLE.md habit 9).
+//
+// Rules that keep it valid in both languages: no swizzles, no out/inout parameters (return
+// structs), float literals with an f suffix, only functions both GLSL and glm provide.
+//
+// The includer defines, before including:
+//   SDF_PAGE(i)       -> uint page-table entry i (0..4095)
+//   SDF_DIST_WORD(i)  -> uint word i of the distance atlas (two fp16 per word)
+//   SDF_ALBEDO(i)     -> uint RGBA8 of material voxel i of the atlas
+//   SDF_EMISSION(i)   -> uint RGB9E5 of material voxel i of the atlas
+//
+// Space: positions are cascade-relative, in voxels; [0,128)³ is the cascade (sdf_layout.h).
+// Empty pages carry a conservative distance bound (see sdf_layout.h), which is how the tracer
+// skips empty space (ARCHITECTURE.md: "empty, at least d away"; Godot SDFGI slides, cascades
+// store distance so rays can leap through empty space).
+
+struct SdfSample {
+  float distance;  // voxels; for a non-resident page, its conservative bound
+  bool resident;   // true when the page holds a brick
+  uint slot;       // atlas slot when resident
+  float exitT;     // non-resident only: ray distance to leave the page (filled by the tracer)
+};
+
+uint sdfPageIndex(ivec3 page, uvec4 toroidalOffset) {
+  // Toroidal addressing: page-table entries are stored at (page + origin) mod 16, so scrolling
+  // the cascade later rewrites only the entering slab (SDFGI slides, "scrolling").
+  uint x = (uint(page.x) + toroidalOffset.x) & 15u;
+  uint y = (uint(page.y) + toroidalOffset.y) & 15u;
+  uint z = (uint(page.z) + toroidalOffset.z) & 15u;
+  return x + 16u * (y + 16u * z);
+}
+
+float sdfBrickDistance(uint slot, uint sx, uint sy, uint sz) {
+  uint i = sx + 9u * (sy + 9u * sz);
+  uint word = SDF_DIST_WORD(slot * 365u + (i >> 1u));
+  vec2 pair = unpackHalf2x16(word);
+  return (i & 1u) == 0u ? pair.x : pair.y;
+}
+
+// Trilinear interpolation of the 9³ samples of one brick at local position q in [0,8]³.
+float sdfBrickTrilinear(uint slot, vec3 q) {
+  vec3 c = clamp(q, vec3(0.0f), vec3(7.999f));
+  uint x0 = uint(c.x);
+  uint y0 = uint(c.y);
+  uint z0 = uint(c.z);
+  float fx = q.x - float(x0);
+  float fy = q.y - float(y0);
+  float fz = q.z - float(z0);
+  fx = clamp(fx, 0.0f, 1.0f);
+  fy = clamp(fy, 0.0f, 1.0f);
+  fz = clamp(fz, 0.0f, 1.0f);
+  float d000 = sdfBrickDistance(slot, x0, y0, z0);
+  float d100 = sdfBrickDistance(slot, x0 + 1u, y0, z0);
+  float d010 = sdfBrickDistance(slot, x0, y0 + 1u, z0);
+  float d110 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0);
+  float d001 = sdfBrickDistance(slot, x0, y0, z0 + 1u);
+  float d101 = sdfBrickDistance(slot, x0 + 1u, y0, z0 + 1u);
+  float d011 = sdfBrickDistance(slot, x0, y0 + 1u, z0 + 1u);
+  float d111 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0 + 1u);
+  float a = d000 + (d100 - d000) * fx;
+  float b = d010 + (d110 - d010) * fx;
+  float c2 = d001 + (d101 - d001) * fx;
+  float d = d011 + (d111 - d011) * fx;
+  float e = a + (b - a) * fy;
+  float f = c2 + (d - c2) * fy;
+  return e + (f - e) * fz;
+}
+
+ivec3 sdfPageOf(vec3 p) {
+  return clamp(ivec3(floor(p * 0.125f)), ivec3(0), ivec3(15));
+}
+
+SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
+  ivec3 page = sdfPageOf(p);
+  uint entry = SDF_PAGE(sdfPageIndex(page, toroidalOffset));
+  SdfSample s;
+  s.exitT = 0.0f;
+  if ((entry & 0x80000000u) != 0u) {
+    s.resident = true;
+    s.slot = entry & 0x7fffffffu;
+    s.distance = sdfBrickTrilinear(s.slot, p - vec3(page) * 8.0f);
+  } else {
+    s.resident = false;
+    s.slot = 0u;
+    s.distance = float(entry & 0x7fffffffu);
+  }
+  return s;
+}
+
+// Ray parameter at which the ray leaves the axis-aligned box [lo, hi] (it starts inside).
+float sdfBoxExit(vec3 o, vec3 invDir, vec3 lo, vec3 hi) {
+  vec3 t0 = (lo - o) * invDir;
+  vec3 t1 = (hi - o) * invDir;
+  vec3 tFar = max(t0, t1);
+  return min(tFar.x, min(tFar.y, tFar.z));
+}
+
+// Returns (tEnter, tExit) of the ray against [lo, hi]; tEnter > tExit means no overlap.
+vec2 sdfBoxClip(vec3 o, vec3 invDir, vec3 lo, vec3 hi) {
+  vec3 t0 = (lo - o) * invDir;
+  vec3 t1 = (hi - o) * invDir;
+  vec3 tNear = min(t0, t1);
+  vec3 tFar = max(t0, t1);
+  return vec2(max(tNear.x, max(tNear.y, tNear.z)), min(tFar.x, min(tFar.y, tFar.z)));
+}
+
+vec3 sdfSafeInverse(vec3 d) {
+  // Avoid inf*0 = NaN in the slab test for axis-parallel rays.
+  float big = 1e30f;
+  return vec3(abs(d.x) > 1e-12f ? 1.0f / d.x : big, abs(d.y) > 1e-12f ? 1.0f / d.y : big,
+              abs(d.z) > 1e-12f ? 1.0f / d.z : big);
+}
+
+// Gradient of the cascade SDF by central differences (half a voxel each side); only resident
+// neighbours contribute, so a hit next to an empty page still gets a sensible normal.
+vec3 sdfNormal(vec3 p, uvec4 toroidalOffset) {
+  float h = 0.5f;
+  SdfSample c = sdfSampleCascade(p, toroidalOffset);
+  vec3 g = vec3(0.0f);
+  for (int axis = 0; axis < 3; ++axis) {
+    vec3 e = vec3(axis == 0 ? h : 0.0f, axis == 1 ? h : 0.0f, axis == 2 ? h : 0.0f);
+    SdfSample a = sdfSampleCascade(p + e, toroidalOffset);
+    SdfSample b = sdfSampleCascade(p - e, toroidalOffset);
+    float da = a.resident ? a.distance : c.distance;
+    float db = b.resident ? b.distance : c.distance;
+    g[axis] = da - db;
+  }
+  float len = length(g);
+  return len > 1e-8f ? g / len : vec3(0.0f, 1.0f, 0.0f);
+}
+
+struct SdfTraceResult {
+  float t;         // voxels along the ray; -1 on a miss
+  vec3 position;   // cascade-relative hit position
+  uint slot;       // atlas slot of the hit brick
+  uint cell;       // material voxel index inside the brick
+  uint steps;
+  bool hit;
+  bool ranOutOfSteps;
+};
+
+SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxSteps,
+                        float hitEpsilon, uvec4 toroidalOffset) {
+  SdfTraceResult r;
+  r.t = -1.0f;
+  r.position = vec3(0.0f);
+  r.slot = 0u;
+  r.cell = 0u;
+  r.steps = 0u;
+  r.hit = false;
+  r.ranOutOfSteps = false;
+
+  vec3 invDir = sdfSafeInverse(dir);
+  vec2 span = sdfBoxClip(origin, invDir, vec3(0.0f), vec3(128.0f));
+  float t = max(tMin, span.x);
+  float tEnd = min(tMax, span.y);
+  // Stay strictly inside the last page when stepping exactly onto the far cascade face.
+  tEnd = tEnd - 1e-4f;
+  for (uint i = 0u; i < maxSteps; ++i) {
+    if (t > tEnd) return r;
+    r.steps = i + 1u;
+    vec3 p = origin + dir * t;
+    SdfSample s = sdfSampleCascade(p, toroidalOffset);
+    if (s.resident) {
+      if (s.distance < hitEpsilon) {
+        r.hit = true;
+        r.t = t;
+        r.position = p;
+        r.slot = s.slot;
+        ivec3 page = sdfPageOf(p);
+        ivec3 cellXyz = clamp(ivec3(floor(p - vec3(page) * 8.0f)), ivec3(0), ivec3(7));
+        r.cell = uint(cellXyz.x + 8 * (cellXyz.y + 8 * cellXyz.z));
+        return r;
+      }
+      // Trilinear fp16 distances can slightly overestimate near corners; 0.9 keeps the step
+      // conservative without costing many iterations.
+      t += max(s.distance * 0.9f, 0.05f);
+    } else {
+      // No surface inside this page: leap to its far side, or farther when the bound allows.
+      ivec3 page = sdfPageOf(p);
+      vec3 lo = vec3(page) * 8.0f;
+      float exitT = sdfBoxExit(origin, invDir, lo, lo + vec3(8.0f));
+      t = max(exitT + 1e-3f, t + s.distance);
+    }
+  }
+  r.ranOutOfSteps = true;
+  return r;
+}
