@@ -1,0 +1,105 @@
+// The one way to record GPU work (STYLE.md habit 3): every dispatch goes through dispatch(),
+// which checks the push-constant size against the pipeline, rounds group counts up from thread
+// counts, binds the buffers as push descriptors, puts a barrier between dependent commands and
+// brackets the pass with GPU timestamps.
+//
+// Usage:
+//   CommandBatch batch = ctx.beginBatch();
+//   batch.dispatch("saxpy", pipeline, {&x, &y}, &push, sizeof push, {n, 1, 1});
+//   batch.submitAndWait();
+//   for (const PassTiming& t : batch.timings()) ...
+//
+// Synchronization contract: commands in a batch run in recording order, each seeing the
+// previous ones' writes (a full compute/transfer barrier separates every pair -- simple and
+// correct; passes that could overlap are rare in this project). A batch also sees the writes of
+// every earlier submission, and after wait() the host sees its writes to mapped buffers.
+// Buffers and pipelines used by a batch must stay alive until it is submitted; after that they
+// may be destroyed at any time (deferred destruction keeps them until the batch has finished).
+//
+// Move-only. Thread safety: as for the Context.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+#include <glm/vec3.hpp>
+
+namespace sdfstream::gpu {
+
+class Buffer;
+class ComputePipeline;
+class Context;
+
+struct PassTiming {
+  std::string name;     // as given to dispatch()
+  double milliseconds;  // GPU time between the timestamps around the pass; >= 0; 0 when the
+                        // queue has no timestamps (Context::timestampsSupported())
+};
+
+class CommandBatch {
+ public:
+  ~CommandBatch();
+  CommandBatch(CommandBatch&& other) noexcept;
+  CommandBatch& operator=(CommandBatch&& other) noexcept;
+  CommandBatch(const CommandBatch&) = delete;
+  CommandBatch& operator=(const CommandBatch&) = delete;
+
+  // Records one compute pass over `threads` invocations (group counts = ceil(threads /
+  // workgroupSize); a zero component records an empty dispatch). `buffers[i]` is bound to
+  // binding i of set 0. Checked (abort): pushBytes == pipeline.desc().pushConstantBytes,
+  // buffers.size() == storageBufferCount, at most maxPasses passes, batch not yet submitted,
+  // group counts within maxComputeWorkGroupCount (only 65535 guaranteed per axis: 64-wide
+  // groups cover 4,194,240 threads in x; spread larger launches over y).
+  void dispatch(std::string_view name, const ComputePipeline& pipeline,
+                std::span<const Buffer* const> buffers, const void* push, std::size_t pushBytes,
+                glm::uvec3 threads);
+  void dispatch(std::string_view name, const ComputePipeline& pipeline,
+                std::initializer_list<const Buffer*> buffers, const void* push,
+                std::size_t pushBytes, glm::uvec3 threads) {
+    dispatch(name, pipeline, std::span<const Buffer* const>(buffers.begin(), buffers.size()), push,
+             pushBytes, threads);
+  }
+
+  // Copies `bytes` (multiple of 4 not required) from src+srcOffset to dst+dstOffset. Checked
+  // (abort): both ranges inside their buffers; the two buffers differ.
+  void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t srcOffset = 0,
+            std::size_t dstOffset = 0);
+  // Sets every 32-bit word of `dst` to `value`.
+  void fill(Buffer& dst, std::uint32_t value);
+
+  // Ends recording and submits; returns the submission index (Context::wait). Once only.
+  std::uint64_t submit();
+  // Blocks until this batch has finished. Precondition: submitted.
+  void wait();
+  void submitAndWait() {
+    submit();
+    wait();
+  }
+  bool submitted() const { return submission_ != 0; }
+
+  // One entry per dispatch, in recording order. Precondition (checked): wait() has returned.
+  std::vector<PassTiming> timings() const;
+
+ private:
+  friend class Context;
+  CommandBatch(Context& ctx, std::uint32_t maxPasses);
+  void beforeCommand();
+  void release();
+
+  Context* ctx_ = nullptr;
+  VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
+  VkQueryPool queryPool_ = VK_NULL_HANDLE;  // 2 timestamps per pass; null when maxPasses == 0
+  std::uint32_t maxPasses_ = 0;
+  std::vector<std::string> passNames_;
+  bool hasCommands_ = false;  // a barrier is needed before the next command
+  std::uint64_t submission_ = 0;
+  bool waited_ = false;
+};
+
+}  // namespace sdfstream::gpu
