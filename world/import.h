@@ -1,0 +1,26 @@
+// Command-line-facing import: any supported input file → World, or → a world directory.
+#pragma once
+
+#include <filesystem>
+
+#include "world/import_limits.h"
+#include "world/world.h"
+
+namespace sdfstream {
+
+struct ImportOptions {
+  double voxelSize = 0;  // metres; 0 = defaultVoxelSize (meshes) or the grid's own (.vdb)
+  ImportLimits limits;
+};
+
+// Dispatches on the extension (case-insensitive): .gltf/.glb → loadGltf, .obj → loadObj,
+// .json → loadLayout, then meshToWorld; .vdb → vdbToWorld. Unknown extension → InputError(Usage).
+// Other errors as documented by those functions.
+World importScene(const std::filesystem::path& input, const ImportOptions& options);
+
+// importScene + writeWorld. The output directory appears only when everything succeeded: a
+// failure leaves no new directory, an existing one intact, and no temp directory behind.
+void importToDirectory(const std::filesystem::path& input, const std::filesystem::path& outDir,
+                       const ImportOptions& options);
+
+}  // namespace sdfstream

@@ -1,0 +1,97 @@
+#include "world/level_set_bricks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <glm/gtc/packing.hpp>
+
+namespace sdfstream {
+namespace {
+
+constexpr int kCells = int(layout::kBrickCells);
+constexpr int kSamples = int(layout::kBrickSamples);
+
+glm::ivec3 floorDiv8(const openvdb::Coord& c) { return {c.x() >> 3, c.y() >> 3, c.z() >> 3}; }
+
+struct CoordLess {
+  bool operator()(const glm::ivec3& a, const glm::ivec3& b) const { return brickCoordLess(a, b); }
+};
+
+// Fills brick's coord and distances; returns whether any sample is inside the narrow band.
+bool sampleBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 coord, float invVoxel,
+                 Brick& brick) {
+  brick.coord = coord;
+  const openvdb::Coord base(coord.x * kCells, coord.y * kCells, coord.z * kCells);
+  bool near = false;
+  for (int z = 0; z < kSamples; ++z)
+    for (int y = 0; y < kSamples; ++y)
+      for (int x = 0; x < kSamples; ++x) {
+        float d = acc.getValue(base.offsetBy(x, y, z)) * invVoxel;
+        if (!std::isfinite(d)) d = layout::kNarrowBand;
+        d = std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+        near = near || std::abs(d) < layout::kNarrowBand;
+        brick.distance[brickSampleIndex(x, y, z)] = std::uint16_t(glm::packHalf1x16(d));
+      }
+  return near;
+}
+
+}  // namespace
+
+World bricksFromLevelSet(const openvdb::FloatGrid& grid, const BrickMaterialFn& material) {
+  static_assert(openvdb::FloatTree::LeafNodeType::DIM == layout::kBrickCells,
+                "OpenVDB leaves must be our bricks");
+  const double voxelSize = grid.voxelSize()[0];
+  const openvdb::Vec3d origin = grid.transform().indexToWorld(openvdb::Vec3d(0.0));
+
+  // Candidate bricks: each leaf's own brick and the 7 bricks below it whose apron samples
+  // (index 8b+8) lie in this leaf.
+  std::vector<glm::ivec3> candidates;
+  candidates.reserve(grid.tree().leafCount() * 2);
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+    glm::ivec3 b = floorDiv8(leaf->origin());
+    for (int dz = 0; dz <= 1; ++dz)
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx) candidates.push_back(b - glm::ivec3(dx, dy, dz));
+  }
+  // Active tiles (coarser than a leaf) near the surface: every brick they cover, plus apron.
+  for (auto it = grid.cbeginValueOn(); it; ++it) {
+    if (!it.isTileValue() || !(std::abs(*it) < layout::kNarrowBand * voxelSize)) continue;
+    openvdb::CoordBBox box;
+    it.getBoundingBox(box);
+    glm::ivec3 lo = floorDiv8(box.min()) - 1, hi = floorDiv8(box.max());
+    for (int z = lo.z; z <= hi.z; ++z)
+      for (int y = lo.y; y <= hi.y; ++y)
+        for (int x = lo.x; x <= hi.x; ++x) candidates.push_back({x, y, z});
+  }
+  std::sort(candidates.begin(), candidates.end(), CoordLess{});
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+
+  World world;
+  world.voxelSize = voxelSize;
+  world.origin = glm::dvec3(origin.x(), origin.y(), origin.z());
+
+  // Chunks bound the scratch memory (a brick is ~5.5 KB; candidates outnumber kept bricks).
+  constexpr std::size_t kChunk = 8192;
+  std::vector<Brick> chunk(std::min(kChunk, candidates.size()));
+  std::vector<char> keep(chunk.size());
+  const float invVoxel = float(1.0 / voxelSize);
+  for (std::size_t first = 0; first < candidates.size(); first += kChunk) {
+    const std::size_t count = std::min(kChunk, candidates.size() - first);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        auto acc = grid.getConstAccessor();
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          keep[i] = sampleBrick(acc, candidates[first + i], invVoxel, chunk[i]);
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          if (keep[i]) material(chunk[i]);
+                      });
+    for (std::size_t i = 0; i < count; ++i)
+      if (keep[i]) world.bricks.push_back(chunk[i]);
+  }
+  return world;
+}
+
+}  // namespace sdfstream

@@ -1,0 +1,212 @@
+#include "world/mesh_to_sdf.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include "core/error.h"
+#include "world/color_pack.h"
+#include "world/level_set_bricks.h"
+
+namespace sdfstream {
+namespace {
+
+constexpr int kCells = int(layout::kBrickCells);
+
+// Closest point on triangle (a,b,c) to p (Ericson, Real-Time Collision Detection 5.1.5), returned
+// as barycentrics (b1, b2) of b and c.
+glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return {0, 0};
+  glm::dvec3 bp = p - b;
+  double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return {1, 0};
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {d1 / (d1 - d3), 0};
+  glm::dvec3 cp = p - c;
+  double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 1};
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {0, d2 / (d2 - d6)};
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {1 - w, w};
+  }
+  double denom = 1 / (va + vb + vc);
+  if (!std::isfinite(denom)) return {0, 0};  // degenerate triangle
+  return {vb * denom, vc * denom};
+}
+
+std::string formatBytes(double bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f GiB", bytes / double(1ull << 30));
+  return buf;
+}
+
+void validate(const TriangleScene& scene) {
+  if (scene.triangles.empty())
+    throw InputError(InputErrorKind::Empty, scene.source, "scene holds no triangles");
+  for (const glm::vec3& p : scene.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(InputErrorKind::NonFinite, scene.source, "non-finite vertex position");
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const glm::uvec3& tri = scene.triangles[t];
+    if (std::max({tri.x, tri.y, tri.z}) >= scene.positions.size())
+      throw InputError(InputErrorKind::OutOfRange, scene.source,
+                       "triangle " + std::to_string(t) + " indexes a missing vertex");
+  }
+}
+
+}  // namespace
+
+double defaultVoxelSize(const TriangleScene& scene) {
+  glm::vec3 extent = scene.boundsMax() - scene.boundsMin();
+  return double(std::max({extent.x, extent.y, extent.z})) / 112.0;
+}
+
+bool isClosedMesh(const TriangleScene& scene) {
+  // Weld by exact position: sort vertex ids by position, equal positions share the first id.
+  std::vector<std::uint32_t> order(scene.positions.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const glm::vec3 &p = scene.positions[a], &q = scene.positions[b];
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> weld(scene.positions.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    weld[order[i]] = (i > 0 && scene.positions[order[i]] == scene.positions[order[i - 1]])
+                         ? weld[order[i - 1]]
+                         : order[i];
+  std::vector<std::uint64_t> edges;
+  edges.reserve(scene.triangles.size() * 3);
+  for (const glm::uvec3& tri : scene.triangles) {
+    std::uint32_t v[3] = {weld[tri.x], weld[tri.y], weld[tri.z]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate: no edges
+    for (int e = 0; e < 3; ++e) {
+      std::uint32_t a = v[e], b = v[(e + 1) % 3];
+      edges.push_back(std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+    }
+  }
+  if (edges.empty()) return false;
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i != 2) return false;
+    i = j;
+  }
+  return true;
+}
+
+double estimateMeshImportBytes(const TriangleScene& scene, double voxelSize) {
+  double bandVoxels =
+      scene.surfaceArea() / (voxelSize * voxelSize) * (2.0 * layout::kNarrowBand + 1.0);
+  return bandVoxels * kBytesPerBandVoxel + double(scene.triangles.size()) * 64.0;
+}
+
+World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimits& limits) {
+  validate(scene);
+  if (voxelSize == 0.0) voxelSize = defaultVoxelSize(scene);
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
+    if (voxelSize == 0.0)
+      throw InputError(InputErrorKind::Empty, scene.source, "all triangles are degenerate");
+    throw InputError(InputErrorKind::OutOfRange, scene.source,
+                     "voxel size " + std::to_string(voxelSize) + " is not a positive number");
+  }
+  const glm::dvec3 lo(scene.boundsMin()), hi(scene.boundsMax());
+  const glm::dvec3 reach = glm::max(glm::abs(lo), glm::abs(hi));
+  const double maxIndex = std::max({reach.x, reach.y, reach.z}) / voxelSize;
+  const double estimate = estimateMeshImportBytes(scene, voxelSize);
+  if (estimate > double(limits.maxBytes) || maxIndex > double(1 << 28))
+    throw InputError(InputErrorKind::TooLarge, scene.source,
+                     "voxel size " + std::to_string(voxelSize) + " m needs about " +
+                         formatBytes(estimate) + " (limit " + formatBytes(double(limits.maxBytes)) +
+                         "); pass a larger voxel size");
+
+  openvdb::initialize();
+  const bool closed = isClosedMesh(scene);
+  std::vector<openvdb::Vec3d> points(scene.positions.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    glm::dvec3 p = glm::dvec3(scene.positions[i]) / voxelSize;  // index space
+    points[i] = openvdb::Vec3d(p.x, p.y, p.z);
+  }
+  std::vector<openvdb::Vec3I> polygons(scene.triangles.size());
+  for (std::size_t i = 0; i < polygons.size(); ++i)
+    polygons[i] = openvdb::Vec3I(scene.triangles[i].x, scene.triangles[i].y, scene.triangles[i].z);
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3d, openvdb::Vec3I> mesh(points, polygons);
+  auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  openvdb::Int32Grid indexGrid(openvdb::Int32(openvdb::util::INVALID_IDX));
+  const float band = layout::kNarrowBand;
+  openvdb::FloatGrid::Ptr grid;
+  if (closed) {
+    grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band, 0,
+                                                            &indexGrid);
+  } else {
+    // Unsigned distance with half a voxel more band, then shifted down by half a voxel: open
+    // sheets become closed shells and distances stay exact out to kNarrowBand (see header).
+    const float half = float(0.5 * voxelSize);
+    grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        mesh, *transform, band + 0.5f, band + 0.5f, openvdb::tools::UNSIGNED_DISTANCE_FIELD,
+        &indexGrid);
+    for (auto it = grid->beginValueOn(); it; ++it) it.setValue(*it - half);
+    grid->tree().root().setBackground(grid->background() - half, /*updateChildNodes=*/true);
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  }
+  points.clear();
+  points.shrink_to_fit();
+  polygons.clear();
+  polygons.shrink_to_fit();
+
+  const auto triangleCount = scene.triangles.size();
+  World world = bricksFromLevelSet(*grid, [&](Brick& brick) {
+    auto dist = grid->getConstAccessor();
+    auto index = indexGrid.getConstAccessor();
+    const glm::ivec3 base = brick.coord * kCells;
+    for (int z = 0; z < kCells; ++z)
+      for (int y = 0; y < kCells; ++y)
+        for (int x = 0; x < kCells; ++x) {
+          // Nearest usable sample of the 8 around the cell centre: smallest |d| with an index.
+          std::int64_t best = -1;
+          float bestDist = 0;
+          for (int corner = 0; corner < 8; ++corner) {
+            openvdb::Coord ijk(base.x + x + (corner & 1), base.y + y + (corner >> 1 & 1),
+                               base.z + z + (corner >> 2));
+            std::int64_t t = index.getValue(ijk);
+            if (t < 0 || std::uint64_t(t) >= triangleCount) continue;
+            float d = std::abs(dist.getValue(ijk));
+            if (best < 0 || d < bestDist) best = t, bestDist = d;
+          }
+          std::uint32_t albedo = 0, emission = 0;
+          if (best >= 0) {
+            const glm::uvec3& tri = scene.triangles[std::size_t(best)];
+            glm::dvec3 centre = (glm::dvec3(base + glm::ivec3(x, y, z)) + 0.5) * voxelSize;
+            glm::vec2 bary(closestBarycentrics(centre, glm::dvec3(scene.positions[tri.x]),
+                                               glm::dvec3(scene.positions[tri.y]),
+                                               glm::dvec3(scene.positions[tri.z])));
+            albedo = packAlbedo(sampleAlbedo(scene, std::uint32_t(best), bary));
+            emission = packRgb9e5(sampleEmission(scene, std::uint32_t(best), bary));
+          }
+          brick.albedo[brickCellIndex(x, y, z)] = albedo;
+          brick.emission[brickCellIndex(x, y, z)] = emission;
+        }
+  });
+  world.source = std::filesystem::path(scene.source).filename().string();
+  if (world.bricks.empty())
+    throw InputError(InputErrorKind::Empty, scene.source, "no surface at this voxel size");
+  return world;
+}
+
+}  // namespace sdfstream

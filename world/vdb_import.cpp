@@ -1,0 +1,140 @@
+#include "world/vdb_import.h"
+
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <string>
+
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/GridTransformer.h>
+
+#include "core/error.h"
+#include "world/color_pack.h"
+#include "world/level_set_bricks.h"
+
+namespace sdfstream {
+namespace {
+
+void initializeOpenVdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// Linear, axis-aligned, uniform positive scale (+ translation): honoured without resampling.
+bool isUniformAxisAligned(const openvdb::math::Transform& xf) {
+  if (!xf.isLinear()) return false;
+  const openvdb::Mat4d m = xf.baseMap()->getAffineMap()->getMat4();
+  const double s = m(0, 0);
+  if (!(s > 0.0) || !std::isfinite(s)) return false;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (std::abs(m(i, j) - (i == j ? s : 0.0)) > 1e-9 * s) return false;
+  return true;
+}
+
+// An unlabelled float grid that is a level set in all but name (see vdb_import.h).
+bool looksLikeLevelSet(const openvdb::FloatGrid& grid) {
+  if (!(grid.background() > 0.0f) || !isUniformAxisAligned(grid.transform())) return false;
+  for (auto it = grid.cbeginValueOn(); it; ++it)
+    if (*it < 0.0f) return true;
+  return false;
+}
+
+std::string describe(const openvdb::GridBase& grid) {
+  const std::string name = "'" + grid.getName() + "'";
+  if (grid.valueType().rfind("ptdataidx", 0) == 0) return "point data " + name;
+  std::string cls = grid.getGridClass() == openvdb::GRID_UNKNOWN
+                        ? std::string("grid")
+                        : openvdb::GridBase::gridClassToString(grid.getGridClass());
+  return cls + " " + name + " (" + grid.valueType() + ")";
+}
+
+}  // namespace
+
+World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
+                 const ImportLimits& limits) {
+  const std::string file = path.string();
+  if (!(voxelSizeOverride >= 0.0) || !std::isfinite(voxelSizeOverride))
+    throw InputError(InputErrorKind::OutOfRange, file, "voxel size must be positive (or 0)");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(InputErrorKind::Io, file, "cannot open: no such file");
+  initializeOpenVdb();
+
+  openvdb::FloatGrid::Ptr grid;
+  try {
+    // io::Stream over our own ifstream rather than io::File: OpenVDB's readers do not all check
+    // for end of file, so a truncated file can otherwise load silently as a partial grid. After
+    // reading every grid the stream must not have failed.
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(InputErrorKind::Io, file, "cannot open");
+    openvdb::io::Stream vdb(in, /*delayLoad=*/false);
+    openvdb::GridPtrVecPtr grids = vdb.getGrids();
+    if (!in || !grids)
+      throw InputError(InputErrorKind::Truncated, file, "file ends before its last grid");
+    std::string holds;
+    for (const openvdb::GridBase::Ptr& g : *grids) {
+      if (g->isType<openvdb::FloatGrid>() && g->getGridClass() == openvdb::GRID_LEVEL_SET) {
+        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
+        break;
+      }
+      holds += (holds.empty() ? "" : ", ") + describe(*g);
+    }
+    for (std::size_t i = 0; !grid && i < grids->size(); ++i) {
+      auto candidate = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[i]);
+      if (candidate && candidate->getGridClass() == openvdb::GRID_UNKNOWN &&
+          looksLikeLevelSet(*candidate))
+        grid = candidate;
+    }
+    if (!grid)
+      throw InputError(
+          InputErrorKind::NotLevelSet, file,
+          "holds " + (holds.empty() ? std::string("no grids") : holds) + ", no float level set");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // openvdb::Exception (IoError, ...) and std exceptions
+    throw InputError(InputErrorKind::Truncated, file,
+                     std::string("truncated or corrupt .vdb: ") + e.what());
+  }
+
+  const bool keep = voxelSizeOverride == 0.0 && isUniformAxisAligned(grid->transform());
+  const double voxelSize = voxelSizeOverride > 0.0 ? voxelSizeOverride : grid->voxelSize()[0];
+  if (!(voxelSize > 0.0) || !std::isfinite(voxelSize))
+    throw InputError(InputErrorKind::Truncated, file, "corrupt transform: bad voxel size");
+  // A surface's band scales with the square of the resolution change.
+  const double ratio = grid->voxelSize()[0] / voxelSize;
+  const double estimate = double(grid->activeVoxelCount()) * ratio * ratio * kBytesPerBandVoxel;
+  if (estimate > double(limits.maxBytes))
+    throw InputError(InputErrorKind::TooLarge, file,
+                     "voxel size " + std::to_string(voxelSize) + " m needs about " +
+                         std::to_string(estimate / double(1ull << 30)) + " GiB (limit " +
+                         std::to_string(double(limits.maxBytes) / double(1ull << 30)) + " GiB)");
+
+  if (!keep) {
+    // Rebuild onto an axis-aligned grid; the output background sets the rebuilt half-width.
+    auto out = openvdb::FloatGrid::create(float(layout::kNarrowBand * voxelSize));
+    out->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
+    out->setGridClass(openvdb::GRID_LEVEL_SET);
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);  // unlabelled fallback grids too
+    try {
+      openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*grid, *out);
+    } catch (const std::exception& e) {
+      throw InputError(InputErrorKind::Malformed, file,
+                       std::string("cannot resample level set: ") + e.what());
+    }
+    grid = out;
+  }
+
+  const std::uint32_t grey = packAlbedo(glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+  World world = bricksFromLevelSet(*grid, [grey](Brick& brick) {
+    brick.albedo.fill(grey);
+    brick.emission.fill(0u);
+  });
+  world.source = path.filename().string();
+  if (world.bricks.empty())
+    throw InputError(InputErrorKind::Empty, file, "level set has no voxel near its surface");
+  return world;
+}
+
+}  // namespace sdfstream
