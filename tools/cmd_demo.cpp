@@ -5,6 +5,7 @@
 
 #include "core/atomic_dir.h"
 #include "gpu/context.h"
+#include "core/error.h"
 #include "tools/args.h"
 #include "tools/commands.h"
 #include "tools/view_renderer.h"

@@ -1,6 +1,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "core/error.h"
 #include "tools/args.h"
 #include "tools/commands.h"
 #include "world/import.h"

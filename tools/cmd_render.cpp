@@ -1,6 +1,7 @@
 #include <cstdio>
 
 #include "gpu/context.h"
+#include "core/error.h"
 #include "tools/args.h"
 #include "tools/commands.h"
 #include "tools/view_renderer.h"

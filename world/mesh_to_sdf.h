@@ -7,8 +7,8 @@
 
 namespace sdfstream {
 
-// Default voxel size (metres) when the user passes 0: the largest bounding-box extent / 256, so a
-// scene spans 256 voxels along its longest axis: a quick, bounded first import.
+// Default voxel size (metres) when the user passes 0: the largest bounding-box extent / 112, so the
+// whole scene plus its narrow band fits one 128³ cascade (docs/DECISIONS.md).
 double defaultVoxelSize(const TriangleScene& scene);
 
 // True when, after welding vertices with bit-identical positions, every edge of a non-degenerate

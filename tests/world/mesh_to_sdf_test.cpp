@@ -178,10 +178,10 @@ TEST(MeshToSdf, EmptySceneIsEmpty) {
   }
 }
 
-TEST(MeshToSdf, DefaultVoxelSizeIsLargestExtentOver256) {
+TEST(MeshToSdf, DefaultVoxelSizeIsLargestExtentOver112) {
   TriangleScene box = test::rotatedBox({0, 0, 0}, {2.0f, 1.0f, 0.5f}, glm::mat3(1.0f));
-  EXPECT_DOUBLE_EQ(defaultVoxelSize(box), 4.0 / 256.0);
-  EXPECT_DOUBLE_EQ(meshToWorld(box, 0, {}).voxelSize, 4.0 / 256.0);
+  EXPECT_DOUBLE_EQ(defaultVoxelSize(box), 4.0 / 112.0);
+  EXPECT_DOUBLE_EQ(meshToWorld(box, 0, {}).voxelSize, 4.0 / 112.0);
 }
 
 TEST(ColorPack, Rgb9e5RoundTrip) {
