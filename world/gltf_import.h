@@ -1,0 +1,41 @@
+// glTF 2.0 (.gltf and .glb) → TriangleScene: every triangle of the default scene in world space,
+// with base colour / emission materials and their textures.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "world/triangle_scene.h"
+
+namespace sdfstream {
+
+// Loads the default scene (or scene 0, or every root node when the file has no scenes), applying
+// all node transforms (matrix or TRS). Triangles, strips and fans are imported; points and lines
+// are skipped. Winding is flipped under mirroring transforms so it stays counter-clockwise.
+//
+// Safe on untrusted input: the JSON is type-checked before use, every accessor is bounds-checked
+// against its bufferView and buffer, every index against its vertex count, every position checked
+// finite, node cycles detected without recursion. Failures throw InputError with a one-line
+// message naming the file, with kinds:
+//   Io           the file cannot be opened or read
+//   Malformed    bad JSON (line:column given), wrong types, node cycles, unsupported features
+//                (sparse accessors, non-float positions)
+//   MissingData  a referenced .bin or image is absent
+//   OutOfRange   an index (vertex, node, mesh, accessor, material, texture) points outside its
+//   array NonFinite    a NaN or infinite position, or a non-finite transform Empty        the scene
+//   holds no triangles Truncated    a .glb shorter than its header declares, or a buffer shorter
+//   than declared Version      a .glb container version other than 2
+// Textures are kept as RGBA8 (other channel counts and 16-bit images converted); the sampler is
+// ignored (sampleAlbedo always wraps). Materials keep their glTF indices; a default grey (0.8) is
+// appended when some primitive has none. Memory: the scene plus the decoded file, transiently.
+TriangleScene loadGltf(const std::filesystem::path& file);
+
+namespace detail {
+// "line L, column C" for nlohmann::json::parse_error::byte (1-based offset of the last byte read)
+// in text. Shared with the layout loader so both report JSON errors the same way.
+std::string jsonLineColumn(std::string_view text, std::size_t byte);
+}  // namespace detail
+
+}  // namespace sdfstream

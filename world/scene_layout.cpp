@@ -1,0 +1,217 @@
+#include "world/scene_layout.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "world/gltf_import.h"
+
+namespace sdfstream {
+namespace {
+
+using Json = nlohmann::json;
+using Kind = InputErrorKind;
+
+struct Reader {
+  std::string file;
+
+  [[noreturn]] void fail(Kind kind, const std::string& key, const std::string& problem) const {
+    throw InputError(kind, file, key + ": " + problem);
+  }
+
+  void onlyKeys(const Json& obj, const std::string& path,
+                std::initializer_list<const char*> allowed) const {
+    if (!obj.is_object()) fail(Kind::Malformed, path, "expected an object");
+    for (const auto& [key, value] : obj.items())
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
+        fail(Kind::Malformed, path + "." + key, "unknown key");
+  }
+
+  double number(const Json& v, const std::string& key) const {
+    if (!v.is_number()) fail(Kind::Malformed, key, "expected a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(Kind::NonFinite, key, "not a finite number");
+    return d;
+  }
+
+  template <int N>
+  glm::vec<N, double> numbers(const Json& obj, const std::string& path, const char* key,
+                              glm::vec<N, double> fallback) const {
+    auto it = obj.find(key);
+    if (it == obj.end()) return fallback;
+    const std::string k = path + "." + key;
+    if (!it->is_array() || it->size() != N ||
+        !std::all_of(it->begin(), it->end(), [](const Json& e) { return e.is_number(); }))
+      fail(Kind::Malformed, k, "expected " + std::to_string(N) + " numbers");
+    glm::vec<N, double> out;
+    for (int i = 0; i < N; ++i) out[i] = number((*it)[std::size_t(i)], k);
+    return out;
+  }
+
+  const Json* array(const Json& root, const char* key) const {
+    auto it = root.find(key);
+    if (it == root.end()) return nullptr;
+    if (!it->is_array()) fail(Kind::Malformed, key, "expected an array");
+    return &*it;
+  }
+};
+
+// Appends `part` to `out` transformed by m (materials and textures re-indexed).
+void append(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) {
+  const auto vertexBase = std::uint32_t(out.positions.size());
+  const auto materialBase = std::uint32_t(out.materials.size());
+  const int textureBase = int(out.textures.size());
+  for (const glm::vec3& p : part.positions) out.positions.emplace_back(m * glm::dvec4(p, 1.0));
+  out.uvs.insert(out.uvs.end(), part.uvs.begin(), part.uvs.end());
+  out.uvs.resize(out.positions.size(), glm::vec2(0.0f));
+  const bool flip = glm::determinant(m) < 0.0;
+  for (const glm::uvec3& t : part.triangles)
+    out.triangles.push_back(glm::uvec3(vertexBase) + (flip ? glm::uvec3(t.x, t.z, t.y) : t));
+  for (std::uint32_t mat : part.triangleMaterial)
+    out.triangleMaterial.push_back(materialBase + mat);
+  for (Material mat : part.materials) {
+    if (mat.baseColorTexture >= 0) mat.baseColorTexture += textureBase;
+    if (mat.emissiveTexture >= 0) mat.emissiveTexture += textureBase;
+    out.materials.push_back(std::move(mat));
+  }
+  out.textures.insert(out.textures.end(), part.textures.begin(), part.textures.end());
+}
+
+TriangleScene makeBox(glm::vec3 lo, glm::vec3 hi, const Material& material) {
+  TriangleScene box;
+  for (int i = 0; i < 8; ++i)  // corner i: bit 0 → x, bit 1 → y, bit 2 → z
+    box.positions.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  box.uvs.assign(8, glm::vec2(0.0f));
+  // Two counter-clockwise (seen from outside) triangles per face: -x, +x, -y, +y, -z, +z.
+  static const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                       {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : faces) {
+    box.triangles.emplace_back(f[0], f[1], f[2]);
+    box.triangles.emplace_back(f[0], f[2], f[3]);
+  }
+  box.triangleMaterial.assign(12, 0);
+  box.materials.push_back(material);
+  return box;
+}
+
+}  // namespace
+
+TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
+  Reader r{jsonFile.string()};
+  std::ifstream in(jsonFile, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(jsonFile, ec))
+    throw InputError(Kind::Io, r.file, std::string("cannot open: ") + std::strerror(errno));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Json root;
+  try {
+    root = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    std::string reason = e.what();
+    if (auto colon = reason.find(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(Kind::Malformed, r.file,
+                     "invalid JSON at " + detail::jsonLineColumn(text, e.byte) + ": " + reason);
+  }
+  if (!root.is_object()) throw InputError(Kind::Malformed, r.file, "top level is not an object");
+  r.onlyKeys(root, "layout", {"assets", "boxes"});
+
+  TriangleScene scene;
+  scene.source = r.file;
+  if (const Json* assets = r.array(root, "assets")) {
+    for (std::size_t i = 0; i < assets->size(); ++i) {
+      const Json& a = (*assets)[i];
+      const std::string path = "assets[" + std::to_string(i) + "]";
+      r.onlyKeys(a, path,
+                 {"file", "translation", "rotation", "scale", "fitSize", "onGround", "name"});
+      auto f = a.find("file");
+      if (f == a.end() || !f->is_string() || f->get<std::string>().empty())
+        r.fail(Kind::Malformed, path + ".file", "expected a file name");
+      if (auto n = a.find("name"); n != a.end() && !n->is_string())
+        r.fail(Kind::Malformed, path + ".name", "expected a string");
+      const glm::dvec3 t = r.numbers<3>(a, path, "translation", glm::dvec3(0.0));
+      const glm::dvec4 q = r.numbers<4>(a, path, "rotation", glm::dvec4(0, 0, 0, 1));
+      if (glm::length(q) < 1e-12) r.fail(Kind::Malformed, path + ".rotation", "zero quaternion");
+      glm::dvec3 s(1.0);
+      if (auto it = a.find("scale"); it != a.end())
+        s = it->is_number() ? glm::dvec3(r.number(*it, path + ".scale"))
+                            : r.numbers<3>(a, path, "scale", s);
+      std::optional<double> fitSize;
+      if (auto it = a.find("fitSize"); it != a.end()) {
+        fitSize = r.number(*it, path + ".fitSize");
+        if (*fitSize <= 0.0) r.fail(Kind::Malformed, path + ".fitSize", "expected a size > 0");
+      }
+      bool onGround = false;
+      if (auto it = a.find("onGround"); it != a.end()) {
+        if (!it->is_boolean())
+          r.fail(Kind::Malformed, path + ".onGround", "expected true or false");
+        onGround = it->get<bool>();
+      }
+
+      std::filesystem::path assetFile = f->get<std::string>();
+      if (assetFile.is_relative()) assetFile = jsonFile.parent_path() / assetFile;
+      if (!std::filesystem::exists(assetFile, ec))
+        r.fail(Kind::MissingData, path + ".file", assetFile.string() + " does not exist");
+      TriangleScene asset;
+      try {
+        asset = loadGltf(assetFile);
+      } catch (const InputError& e) {
+        throw InputError(e.kind(), r.file, path + ".file: " + e.what());
+      }
+
+      // Asset frame first: fit, then rest on the ground; then T * R * S.
+      glm::dmat4 local(1.0);
+      const glm::dvec3 lo = asset.boundsMin(), hi = asset.boundsMax();
+      double fit = 1.0;
+      if (fitSize) {
+        const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+        if (extent > 0.0) fit = *fitSize / extent;
+      }
+      if (onGround) local = glm::translate(local, glm::dvec3(0.0, -lo.y * fit, 0.0));
+      local = glm::scale(local, glm::dvec3(fit));
+      const glm::dquat rot = glm::normalize(glm::dquat(q.w, q.x, q.y, q.z));
+      const glm::dmat4 world =
+          glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(rot) * glm::scale(glm::dmat4(1.0), s);
+      append(scene, asset, world * local);
+    }
+  }
+  if (const Json* boxes = r.array(root, "boxes")) {
+    for (std::size_t i = 0; i < boxes->size(); ++i) {
+      const Json& b = (*boxes)[i];
+      const std::string path = "boxes[" + std::to_string(i) + "]";
+      r.onlyKeys(b, path, {"min", "max", "albedo", "emission", "name"});
+      if (!b.contains("min") || !b.contains("max"))
+        r.fail(Kind::Malformed, path, "needs both min and max");
+      const glm::dvec3 lo = r.numbers<3>(b, path, "min", glm::dvec3(0.0));
+      const glm::dvec3 hi = r.numbers<3>(b, path, "max", glm::dvec3(0.0));
+      if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
+        r.fail(Kind::Malformed, path + ".max", "must be greater than min on every axis");
+      Material m;
+      m.name = path;
+      if (auto n = b.find("name"); n != b.end()) {
+        if (!n->is_string()) r.fail(Kind::Malformed, path + ".name", "expected a string");
+        m.name = n->get<std::string>();
+      }
+      m.baseColorFactor = glm::vec4(glm::vec3(r.numbers<3>(b, path, "albedo", glm::dvec3(0.8))), 1);
+      m.emissive = glm::vec3(r.numbers<3>(b, path, "emission", glm::dvec3(0.0)));
+      append(scene, makeBox(glm::vec3(lo), glm::vec3(hi), m), glm::dmat4(1.0));
+    }
+  }
+  if (scene.triangles.empty()) throw InputError(Kind::Empty, r.file, "no assets and no boxes");
+  for (const glm::vec3& p : scene.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(Kind::NonFinite, r.file, "a transformed vertex is not finite");
+  return scene;
+}
+
+}  // namespace sdfstream
