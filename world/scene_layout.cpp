@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "world/gltf_import.h"
+#include "world/obj_import.h"
 
 namespace sdfstream {
 namespace {
@@ -164,7 +165,9 @@ TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
         r.fail(Kind::MissingData, path + ".file", assetFile.string() + " does not exist");
       TriangleScene asset;
       try {
-        asset = loadGltf(assetFile);
+        std::string ext = assetFile.extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        asset = ext == ".obj" ? loadObj(assetFile) : loadGltf(assetFile);
       } catch (const InputError& e) {
         throw InputError(e.kind(), r.file, path + ".file: " + e.what());
       }

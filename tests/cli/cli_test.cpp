@@ -1,0 +1,135 @@
+// The command-line tool as a user meets it: bad input gets exactly one line on stderr naming the
+// file and the error class, a non-zero exit code, and no output directory; good input works.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "tests/support/test_data.h"
+
+namespace sdfstream {
+namespace {
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exitCode;
+  std::string out;
+  std::string err;
+};
+
+RunResult run(const std::string& arguments) {
+  static int counter = 0;
+  fs::path errFile = fs::temp_directory_path() /
+                     ("sdfstream-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  std::string cmd = std::string(SDFSTREAM_CLI) + " " + arguments + " 2>" + errFile.string();
+  RunResult r{};
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
+  int status = pclose(pipe);
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(errFile);
+  r.err.assign(std::istreambuf_iterator<char>(e), {});
+  fs::remove(errFile);
+  return r;
+}
+
+int lineCount(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+void expectCleanFailure(const fs::path& input, const std::string& kind) {
+  fs::path out = test::scratchDir("cli-bad") / "world";
+  RunResult r = run("import '" + input.string() + "' -o '" + out.string() + "'");
+  EXPECT_NE(r.exitCode, 0) << input;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("[" + kind + "]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(input.filename().string()), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "a failed import must leave no output";
+  for (const auto& entry : fs::directory_iterator(out.parent_path()))
+    ADD_FAILURE() << "left behind: " << entry.path();
+}
+
+const fs::path kGltf2 = "/usr/share/assimp/models/glTF2";
+
+TEST(Cli, BadGltfInputsFailWithOneLineAndNoOutput) {
+  expectCleanFailure(kGltf2 / "MissingBin/BoxTextured.gltf", "missing-data");
+  expectCleanFailure(kGltf2 / "IndexOutOfRange/IndexOutOfRange.gltf", "out-of-range");
+  expectCleanFailure(kGltf2 / "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "non-finite");
+  expectCleanFailure(kGltf2 / "wrongTypes/badArray.gltf", "malformed");
+  expectCleanFailure(kGltf2 / "TestNoRootNode/SceneWithoutNodes.gltf", "empty");
+  fs::path dir = test::scratchDir("cli-json");
+  std::ofstream(dir / "broken.gltf") << "{ \"asset\": { \"version\": \"2.0\" ";
+  expectCleanFailure(dir / "broken.gltf", "malformed");
+  // Truncated binary glTF.
+  fs::path glb = kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb";
+  fs::copy_file(glb, dir / "truncated.glb");
+  fs::resize_file(dir / "truncated.glb", fs::file_size(glb) / 2);
+  expectCleanFailure(dir / "truncated.glb", "truncated");
+}
+
+TEST(Cli, BadVdbInputsFailWithOneLineAndNoOutput) {
+  SDFSTREAM_REQUIRE_SHARED_DATA("vdb/smoke.vdb");
+  expectCleanFailure(test::sharedData() / "vdb/smoke.vdb", "not-level-set");
+  expectCleanFailure(test::sharedData() / "vdb/points.vdb", "not-level-set");
+  fs::path dir = test::scratchDir("cli-vdb");
+  fs::copy_file(test::sharedData() / "vdb/sphere.vdb", dir / "cut.vdb");
+  fs::resize_file(dir / "cut.vdb", fs::file_size(dir / "cut.vdb") / 3);
+  expectCleanFailure(dir / "cut.vdb", "truncated");
+}
+
+TEST(Cli, VoxelSizeOverMemoryLimitIsRefused) {
+  fs::path out = test::scratchDir("cli-big") / "world";
+  RunResult r = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                    " -o " + out.string() + " --voxel 0.00001");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_NE(r.err.find("[too-large]"), std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, FailedImportKeepsAnExistingWorld) {
+  fs::path dir = test::scratchDir("cli-keep");
+  fs::path world = dir / "world";
+  RunResult ok = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                     " -o " + world.string());
+  ASSERT_EQ(ok.exitCode, 0) << ok.err;
+  std::ifstream before(world / "bricks.bin", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(before)), {});
+  RunResult bad = run("import " + (kGltf2 / "MissingBin/BoxTextured.gltf").string() + " -o " +
+                      world.string());
+  EXPECT_NE(bad.exitCode, 0);
+  std::ifstream after(world / "bricks.bin", std::ios::binary);
+  EXPECT_EQ(bytes, std::string((std::istreambuf_iterator<char>(after)), {}));
+  int entries = 0;
+  for (auto& e : fs::directory_iterator(dir)) entries += e.path().filename() == "world" ? 0 : 1;
+  EXPECT_EQ(entries, 0) << "no temp directories left behind";
+}
+
+TEST(Cli, ImportRenderInfoAndHelp) {
+  fs::path dir = test::scratchDir("cli-render");
+  RunResult imp = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                      " -o " + (dir / "world").string());
+  ASSERT_EQ(imp.exitCode, 0) << imp.err;
+  RunResult info = run("info " + (dir / "world").string());
+  EXPECT_EQ(info.exitCode, 0) << info.err;
+  EXPECT_NE(info.out.find("checksums  ok"), std::string::npos) << info.out;
+  RunResult render = run("render " + (dir / "world").string() + " -o " +
+                         (dir / "box.png").string() + " --width 64 --height 48");
+  EXPECT_EQ(render.exitCode, 0) << render.err;
+  EXPECT_TRUE(fs::exists(dir / "box.png"));
+  EXPECT_NE(render.out.find("rays hit"), std::string::npos);
+  for (const char* cmd : {"import", "render", "info", "demo"}) {
+    RunResult help = run(std::string(cmd) + " --help");
+    EXPECT_EQ(help.exitCode, 0) << cmd;
+    EXPECT_NE(help.out.find("usage: sdfstream"), std::string::npos) << cmd;
+  }
+  RunResult bogus = run("render " + (dir / "world").string() + " -o x.png --camera 1,2");
+  EXPECT_EQ(bogus.exitCode, 2);
+  EXPECT_EQ(lineCount(bogus.err), 1);
+}
+
+}  // namespace
+}  // namespace sdfstream
