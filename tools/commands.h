@@ -6,7 +6,11 @@ namespace sdfstream::cli {
 
 int runImport(int argc, char** argv);
 int runRender(int argc, char** argv);
-int runInfo(int argc, char** argv);
+int runInfo(int argc, char** argv);     // tools/cmd_pack.cpp
+int runVerify(int argc, char** argv);   // tools/cmd_pack.cpp
+int runMerge(int argc, char** argv);    // tools/cmd_pack.cpp
 int runDemo(int argc, char** argv);
+int runGenerateWorld(int argc, char** argv);  // tools/cmd_generate_world.cpp
+int runBench(int argc, char** argv);          // tools/cmd_bench.cpp
 
 }  // namespace sdfstream::cli

@@ -16,7 +16,11 @@ const char* kUsage =
     "                 convert level data into a world directory of 8^3 SDF bricks\n"
     "  render WORLD [--camera px,py,pz,tx,ty,tz[,fov]] -o IMAGE.png\n"
     "                 sphere-trace the world on the GPU (lavapipe when no GPU) into a PNG\n"
-    "  info WORLD     print a world's summary after verifying its checksums\n"
+    "  info WORLD     print a world pack's summary\n"
+    "  verify WORLD   check every checksum; name the first bad tile\n"
+    "  merge SHARD... -o WORLD   join packs imported with --shard i/n\n"
+    "  generate-world -o LAYOUT.json   write the large built-in world's layout\n"
+    "  bench import|...   benchmarks (outputs under out/bench)\n"
     "  demo [-o DIR]  import the built-in scene, render views, write PNGs and a report\n";
 }
 
@@ -30,7 +34,11 @@ int main(int argc, char** argv) {
     if (command == "import") return sdfstream::cli::runImport(argc, argv);
     if (command == "render") return sdfstream::cli::runRender(argc, argv);
     if (command == "info") return sdfstream::cli::runInfo(argc, argv);
+    if (command == "verify") return sdfstream::cli::runVerify(argc, argv);
+    if (command == "merge") return sdfstream::cli::runMerge(argc, argv);
     if (command == "demo") return sdfstream::cli::runDemo(argc, argv);
+    if (command == "generate-world") return sdfstream::cli::runGenerateWorld(argc, argv);
+    if (command == "bench") return sdfstream::cli::runBench(argc, argv);
     std::fprintf(stderr, "sdfstream: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const sdfstream::InputError& e) {
