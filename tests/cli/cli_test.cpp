@@ -119,6 +119,8 @@ TEST(Cli, ImportRenderInfoAndHelp) {
   RunResult render = run("render " + (dir / "world").string() + " -o " +
                          (dir / "box.png").string() + " --width 64 --height 48");
   EXPECT_EQ(render.exitCode, 0) << render.err;
+  // scripts/test exports SDFSTREAM_VALIDATION=1: any validation message would land on stderr.
+  EXPECT_EQ(render.err, "");
   EXPECT_TRUE(fs::exists(dir / "box.png"));
   EXPECT_NE(render.out.find("rays hit"), std::string::npos);
   for (const char* cmd : {"import", "render", "info", "demo"}) {
