@@ -19,6 +19,7 @@
 struct SdfSample {
   float distance;  // voxels; for a non-resident page, its conservative bound
   bool resident;   // true when the page holds a brick
+  bool missing;    // the page is needed but not streamed in yet (kPageMissing)
   uint slot;       // atlas slot when resident
   float exitT;     // non-resident only: ray distance to leave the page (filled by the tracer)
 };
@@ -77,6 +78,7 @@ SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
   uint entry = SDF_PAGE(sdfPageIndex(page, toroidalOffset));
   SdfSample s;
   s.exitT = 0.0f;
+  s.missing = entry == kPageMissing;
   if ((entry & 0x80000000u) != 0u) {
     s.resident = true;
     s.slot = entry & 0x7fffffffu;
@@ -84,7 +86,7 @@ SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
   } else {
     s.resident = false;
     s.slot = 0u;
-    s.distance = float(entry & 0x7fffffffu);
+    s.distance = s.missing ? 0.0f : float(entry & 0x7fffffffu);
   }
   return s;
 }
@@ -139,6 +141,8 @@ struct SdfTraceResult {
   uint steps;
   bool hit;
   bool ranOutOfSteps;
+  bool missingData;  // stopped at a page that is not resident yet: the caller falls back to a
+                     // coarser cascade from t (issue 4 "never wait")
 };
 
 SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxSteps,
@@ -151,6 +155,7 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
   r.steps = 0u;
   r.hit = false;
   r.ranOutOfSteps = false;
+  r.missingData = false;
 
   vec3 invDir = sdfSafeInverse(dir);
   vec2 span = sdfBoxClip(origin, invDir, vec3(0.0f), vec3(128.0f));
@@ -177,6 +182,11 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
       // Trilinear fp16 distances can slightly overestimate near corners; 0.9 keeps the step
       // conservative without costing many iterations.
       t += max(s.distance * 0.9f, 0.05f);
+    } else if (s.missing) {
+      r.missingData = true;
+      r.t = t;
+      r.position = p;
+      return r;
     } else {
       // No surface inside this page: leap to its far side, or farther when the bound allows.
       ivec3 page = sdfPageOf(p);

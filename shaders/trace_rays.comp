@@ -34,7 +34,8 @@ void main() {
                               pc.hitEpsilon, pc.toroidalOffset);
   TraceHit h;
   h.steps = r.steps;
-  h.flags = (r.hit ? kHitFlagHit : 0u) | (r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u);
+  h.flags = (r.hit ? kHitFlagHit : 0u) | (r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |
+            (r.missingData ? kHitFlagMissingData : 0u);
   if (r.hit) {
     vec3 n = sdfNormal(r.position, pc.toroidalOffset);
     h.normalT = vec4(n, r.t);

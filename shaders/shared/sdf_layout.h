@@ -37,8 +37,11 @@ SDF_CONST uint kCascadePageCount = 4096;    // 16³
 //  - bit 31 set: resident brick; bits 0..30 = atlas slot index.
 //  - bit 31 clear: no brick; bits 0..30 = conservative distance bound to the nearest surface,
 //    in whole voxels, from any point of this page (0 = only "no surface inside this page").
+//  - payload kPageMissing (bit 31 clear): the page is needed but its data is not resident yet
+//    (streaming never waits for it); traversal must fall back to a coarser cascade there.
 SDF_CONST uint kPageResidentBit = 0x80000000u;
 SDF_CONST uint kPagePayloadMask = 0x7fffffffu;
+SDF_CONST uint kPageMissing = 0x7fffffffu;
 
 // One ray for the trace pass, in cascade voxel units (see above).
 struct TraceRay {
@@ -57,6 +60,7 @@ struct TraceHit {
 
 SDF_CONST uint kHitFlagHit = 1u;
 SDF_CONST uint kHitFlagRanOutOfSteps = 2u;
+SDF_CONST uint kHitFlagMissingData = 4u;  // stopped at a page not streamed in yet
 
 // Push constants of trace_rays.comp.
 struct TracePushConstants {

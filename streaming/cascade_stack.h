@@ -1,0 +1,93 @@
+// Camera-centred scrolling cascades fed from a world pack (issue 4; Godot SDFGI slides,
+// "cascades" and "scrolling"). Cascade c covers 16³ pages of LOD-c bricks (128³ cells of voxel
+// v0·2^c) around the camera; all cascades share one brick atlas with a fixed slot budget.
+//
+// Per frame, update():
+//  - recentres each cascade on the camera (snapped to its bricks); only pages whose brick
+//    changed (the entering slab) are invalidated; their atlas slots are released;
+//  - fills invalidated pages from decoded tiles already in the loader's RAM cache, finer
+//    cascades and nearer pages first, within a per-frame upload budget;
+//  - never waits: a page whose tile is not decoded yet is marked kPageMissing (traversal falls
+//    back to a coarser cascade there) and counted; its tile is requested asynchronously.
+// The result is the CPU image of the GPU state: page tables (toroidal, cascade-major) and the
+// atlas, plus the list of slots whose contents changed (what to upload).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "streaming/cascade.h"
+#include "streaming/tile_loader.h"
+
+namespace sdfstream {
+
+struct StreamingOptions {
+  int cascades = 6;                             // 1..8
+  std::uint32_t atlasSlots = 16384;             // shared brick budget (see atlasBytes())
+  std::size_t uploadBytesPerFrame = 16u << 20;  // brick bytes copied into the atlas per frame
+};
+
+struct CascadeFrameStats {
+  std::uint32_t pagesChanged = 0;   // pages invalidated by this frame's scroll
+  std::uint32_t residentBricks = 0;
+  std::uint32_t requiredBricks = 0;  // resident + missing pages whose tile holds surface
+  std::uint32_t missingPages = 0;    // needed but not resident (tile not decoded / atlas full)
+};
+
+struct StreamFrameStats {
+  std::vector<CascadeFrameStats> cascades;
+  std::uint64_t bytesUploaded = 0;  // brick bytes written into the atlas this frame
+  std::uint32_t missingPages = 0;
+  std::uint32_t failedPages = 0;    // missing because their tile failed to load
+  std::uint32_t atlasFullPages = 0;
+  std::uint32_t atlasSlotsUsed = 0;
+};
+
+class CascadeStack {
+ public:
+  CascadeStack(const TileStore& store, TileLoader& loader, StreamingOptions options = {});
+
+  StreamFrameStats update(const glm::dvec3& cameraWorld);
+
+  int cascadeCount() const { return int(cascades_.size()); }
+  const StreamingOptions& options() const { return options_; }
+  // Page table of cascade c: 4096 entries, toroidally addressed (entry of brick b at b mod 16).
+  std::span<const std::uint32_t> pageTable(int c) const { return cascades_[c].entries; }
+  glm::ivec3 originBrick(int c) const { return cascades_[c].origin; }
+  double voxelSize(int c) const;
+  // The shared atlas (all slots) and the slots rewritten since the last takeDirtySlots().
+  const std::vector<std::uint32_t>& atlasDistance() const { return distance_; }
+  const std::vector<std::uint32_t>& atlasAlbedo() const { return albedo_; }
+  const std::vector<std::uint32_t>& atlasEmission() const { return emission_; }
+  std::vector<std::uint32_t> takeDirtySlots();
+  std::size_t atlasBytes() const;
+  // A cascade as the single-cascade tracer takes it (copies the page table and the atlas).
+  CascadeImage cascadeImage(int c) const;
+  // True when no page of any cascade is missing.
+  bool settled() const;
+
+ private:
+  struct Cascade {
+    glm::ivec3 origin{0};
+    bool placed = false;
+    std::vector<std::uint32_t> entries;   // 4096, toroidal
+    std::vector<glm::ivec3> bricks;       // brick held by each toroidal slot
+    std::vector<std::uint8_t> pending;    // 1 = needs filling
+    std::uint32_t pendingCount = 0;
+  };
+  void scroll(int c, glm::ivec3 newOrigin, CascadeFrameStats& stats);
+  void releasePage(Cascade& cascade, std::uint32_t page);
+
+  const TileStore& store_;
+  TileLoader& loader_;
+  StreamingOptions options_;
+  std::vector<Cascade> cascades_;
+  std::vector<std::uint32_t> distance_, albedo_, emission_;
+  std::vector<std::uint32_t> freeSlots_;
+  std::vector<std::uint32_t> dirtySlots_;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,27 @@
+// Where streamed tiles come from: a world pack on disk in production, an in-memory or
+// fault-injecting store in tests. The loader calls load() from its worker threads only.
+#pragma once
+
+#include <memory>
+
+#include <glm/glm.hpp>
+
+#include "world/partition.h"
+
+namespace sdfstream {
+
+class TileStore {
+ public:
+  virtual ~TileStore() = default;
+  virtual const PartitionSpec& spec() const = 0;
+  // True when the pack holds this tile (a cheap manifest lookup; thread-safe). Tiles it does not
+  // hold have no surface at any LOD.
+  virtual bool hasTile(glm::ivec3 tile) const = 0;
+  // Reads, verifies and decodes one tile. Blocking I/O; thread-safe. Throws on failure
+  // (InputError for corrupt data, std::exception for I/O); the loader retries with backoff.
+  virtual std::shared_ptr<const Tile> load(glm::ivec3 tile) const = 0;
+  // Bytes the tile occupies on disk (for metrics); 0 if unknown.
+  virtual std::size_t tileBytes(glm::ivec3 tile) const = 0;
+};
+
+}  // namespace sdfstream
