@@ -46,13 +46,17 @@ Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3&
 
 std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, int height,
                                               const CascadeImage& cascade) {
+  return primaryRaysFrom(camera, width, height, cascade.toCascade(camera.position));
+}
+
+std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
+                                                  const glm::vec3& origin) {
   glm::dvec3 forward = glm::normalize(camera.target - camera.position);
   glm::dvec3 upHint = std::abs(glm::dot(forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
   glm::dvec3 right = glm::normalize(glm::cross(forward, upHint));
   glm::dvec3 up = glm::cross(right, forward);
   double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);
   double aspect = double(width) / double(height);
-  glm::vec3 origin = cascade.toCascade(camera.position);
   std::vector<gpu_shared::TraceRay> rays(std::size_t(width) * height);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {

@@ -32,5 +32,9 @@ Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3&
 // One ray per pixel centre, row-major from the top-left pixel, in the cascade's voxel units.
 std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, int height,
                                               const CascadeImage& cascade);
+// Same, with the camera position already converted to the rays' frame (any frame whose axes are
+// parallel to the world's with uniform scale, e.g. CascadeStackImage::toStack).
+std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
+                                                  const glm::vec3& originInRayFrame);
 
 }  // namespace sdfstream

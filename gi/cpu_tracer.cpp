@@ -17,16 +17,19 @@ struct CascadeTracer {
   const std::uint32_t* distanceAtlas;
   const std::uint32_t* albedoAtlas;
   const std::uint32_t* emissionAtlas;
+  const CascadeTraceParams* cascades = nullptr;  // stack traversal only
 
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
 #include "shaders/sdf_trace.glsl"
 #undef SDF_PAGE
 #undef SDF_DIST_WORD
 #undef SDF_ALBEDO
 #undef SDF_EMISSION
+#undef SDF_CASCADE
 
   // Mirrors main() of trace_rays.comp.
   TraceHit traceOne(const TraceRay& ray, const TracePushConstants& pc) {
@@ -48,8 +51,48 @@ struct CascadeTracer {
     }
     return h;
   }
+
+  // Mirrors main() of trace_stack.comp.
+  TraceHit traceStackOne(const TraceRay& ray, const TraceStackPushConstants& pc) {
+    SdfStackResult s = sdfTraceStack(vec3(ray.originTMin), vec3(ray.dirTMax), ray.originTMin.w,
+                                     ray.dirTMax.w, pc.maxSteps, pc.hitEpsilon, pc.cascadeCount);
+    TraceHit h{};
+    h.steps = s.steps;
+    h.flags = (s.r.hit ? kHitFlagHit : 0u) | (s.r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |
+              (s.r.missingData ? kHitFlagMissingData : 0u) | (s.fellBack ? kHitFlagFellBack : 0u) |
+              (s.cascade << kHitCascadeShift);
+    if (s.r.hit) {
+      vec3 n = sdfNormal(s.r.position, cascades[s.cascade].toroidal);
+      h.normalT = vec4(n, s.t0);
+      h.albedo = albedoAtlas[s.r.slot * kBrickMaterialCount + s.r.cell];
+      h.emission = emissionAtlas[s.r.slot * kBrickMaterialCount + s.r.cell];
+    } else {
+      h.normalT = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    }
+    return h;
+  }
 };
 }  // namespace cpu_trace_detail
+
+std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
+                                                std::span<const gpu_shared::TraceRay> rays,
+                                                const TraceSettings& settings) {
+  cpu_trace_detail::CascadeTracer tracer{stack.pageTables.data(), stack.distanceAtlas->data(),
+                                         stack.albedoAtlas->data(), stack.emissionAtlas->data(),
+                                         stack.params.data()};
+  gpu_shared::TraceStackPushConstants pc{};
+  pc.rayCount = std::uint32_t(rays.size());
+  pc.maxSteps = settings.maxSteps;
+  pc.hitEpsilon = settings.hitEpsilon;
+  pc.cascadeCount = std::uint32_t(stack.params.size());
+  std::vector<gpu_shared::TraceHit> hits(rays.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
+    auto local = tracer;
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      hits[i] = local.traceStackOne(rays[i], pc);
+  });
+  return hits;
+}
 
 std::vector<gpu_shared::TraceHit> traceRaysCpu(const CascadeImage& cascade,
                                                std::span<const gpu_shared::TraceRay> rays,

@@ -7,6 +7,7 @@
 
 #include "shaders/shared/sdf_layout.h"
 #include "streaming/cascade.h"
+#include "streaming/cascade_stack.h"
 
 namespace sdfstream {
 
@@ -19,5 +20,11 @@ struct TraceSettings {
 std::vector<gpu_shared::TraceHit> traceRaysCpu(const CascadeImage& cascade,
                                                std::span<const gpu_shared::TraceRay> rays,
                                                const TraceSettings& settings);
+
+// Traces rays given in cascade-0 voxels through the whole stack (sdfTraceStack). Hit t is in
+// cascade-0 voxels; the hit's cascade is in flags >> kHitCascadeShift.
+std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
+                                                std::span<const gpu_shared::TraceRay> rays,
+                                                const TraceSettings& settings);
 
 }  // namespace sdfstream

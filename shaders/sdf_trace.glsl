@@ -10,6 +10,8 @@
 //   SDF_DIST_WORD(i)  -> uint word i of the distance atlas (two fp16 per word)
 //   SDF_ALBEDO(i)     -> uint RGBA8 of material voxel i of the atlas
 //   SDF_EMISSION(i)   -> uint RGB9E5 of material voxel i of the atlas
+// and, for the multi-cascade traversal sdfTraceStack only:
+//   SDF_CASCADE(c)    -> CascadeTraceParams of cascade c
 //
 // Space: positions are cascade-relative, in voxels; [0,128)³ is the cascade (sdf_layout.h).
 // Empty pages carry a conservative distance bound (see sdf_layout.h), which is how the tracer
@@ -24,13 +26,15 @@ struct SdfSample {
   float exitT;     // non-resident only: ray distance to leave the page (filled by the tracer)
 };
 
+// toroidalOffset: xyz = cascade origin brick mod 16, w = first entry of this cascade's page
+// table in SDF_PAGE's array (cascade index * 4096 when all cascades share one buffer).
 uint sdfPageIndex(ivec3 page, uvec4 toroidalOffset) {
   // Toroidal addressing: page-table entries are stored at (page + origin) mod 16, so scrolling
-  // the cascade later rewrites only the entering slab (SDFGI slides, "scrolling").
+  // the cascade rewrites only the entering slab (SDFGI slides, "scrolling").
   uint x = (uint(page.x) + toroidalOffset.x) & 15u;
   uint y = (uint(page.y) + toroidalOffset.y) & 15u;
   uint z = (uint(page.z) + toroidalOffset.z) & 15u;
-  return x + 16u * (y + 16u * z);
+  return toroidalOffset.w + x + 16u * (y + 16u * z);
 }
 
 float sdfBrickDistance(uint slot, uint sx, uint sy, uint sz) {
@@ -198,3 +202,54 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
   r.ranOutOfSteps = true;
   return r;
 }
+
+#ifdef SDF_CASCADE
+// Traversal across the cascade stack (issue 4/5): the ray is given in cascade-0 voxel units
+// relative to cascade 0's minimum corner. It is traced in the finest cascade that contains it;
+// when it leaves that cascade's window, or reaches a page that is not streamed in yet, it carries
+// on from the same point in the next coarser cascade ("never wait": missing data costs detail,
+// not a stall). SDF_CASCADE(c) must yield the cascade's CascadeTraceParams (sdf_layout.h).
+struct SdfStackResult {
+  SdfTraceResult r;  // position and t in the hit cascade's units
+  float t0;          // hit distance in cascade-0 voxels (-1 on a miss)
+  uint cascade;      // cascade of the hit (or where the ray ended)
+  uint steps;        // total over all cascades
+  bool fellBack;     // a missing page forced a coarser cascade
+};
+
+SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                             float hitEpsilon, uint cascadeCount) {
+  SdfStackResult res;
+  res.t0 = -1.0f;
+  res.cascade = 0u;
+  res.steps = 0u;
+  res.fellBack = false;
+  float t0 = tMin0;
+  for (uint c = 0u; c < cascadeCount; ++c) {
+    CascadeTraceParams cp = SDF_CASCADE(c);
+    float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
+    vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
+    uint budget = maxSteps > res.steps ? maxSteps - res.steps : 0u;
+    SdfTraceResult r = sdfTrace(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon, cp.toroidal);
+    res.steps += r.steps;
+    res.r = r;
+    res.cascade = c;
+    if (r.hit) {
+      res.t0 = r.t * scale;
+      return res;
+    }
+    if (r.ranOutOfSteps) return res;
+    if (r.missingData) {
+      res.fellBack = true;
+      t0 = r.t * scale;  // continue at the same point, one cascade coarser
+    } else {
+      // Left the window (or tMax): continue from where this cascade's box ends.
+      vec2 span = sdfBoxClip(o, sdfSafeInverse(dir), vec3(0.0f), vec3(128.0f));
+      float exitT0 = span.y * scale;
+      if (exitT0 >= tMax0) return res;
+      t0 = max(t0, exitT0);
+    }
+  }
+  return res;
+}
+#endif  // SDF_CASCADE

@@ -183,6 +183,30 @@ bool CascadeStack::settled() const {
   return true;
 }
 
+CascadeStackImage CascadeStack::stackImage() const {
+  const PartitionSpec& spec = store_.spec();
+  CascadeStackImage img;
+  img.distanceAtlas = &distance_;
+  img.albedoAtlas = &albedo_;
+  img.emissionAtlas = &emission_;
+  img.voxelSize0 = spec.voxelSize;
+  const glm::ivec3 min0 = cascades_[0].origin * int(layout::kBrickCells);  // LOD-0 cells
+  img.cascade0MinWorld = spec.origin + glm::dvec3(min0) * spec.voxelSize;
+  for (int c = 0; c < cascadeCount(); ++c) {
+    img.pageTables.insert(img.pageTables.end(), cascades_[c].entries.begin(),
+                          cascades_[c].entries.end());
+    // Integer LOD-0 cell offsets: exact in float for any window within 2^24 cells of cascade 0.
+    glm::ivec3 minC = cascades_[c].origin * int(layout::kBrickCells << c);
+    gpu_shared::CascadeTraceParams p;
+    p.offsetScale = glm::vec4(glm::vec3(minC - min0), float(1 << c));
+    glm::ivec3 o = cascades_[c].origin;
+    p.toroidal = glm::uvec4(std::uint32_t(o.x) & 15u, std::uint32_t(o.y) & 15u,
+                            std::uint32_t(o.z) & 15u, std::uint32_t(c) * layout::kCascadePageCount);
+    img.params.push_back(p);
+  }
+  return img;
+}
+
 CascadeImage CascadeStack::cascadeImage(int c) const {
   CascadeImage img;
   img.voxelSize = voxelSize(c);

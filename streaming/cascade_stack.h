@@ -24,6 +24,23 @@
 
 namespace sdfstream {
 
+// The whole cascade stack as the stack traversal reads it: page tables of every cascade
+// (cascade-major), the shared atlas (not copied: the stack keeps it) and per-cascade params.
+struct CascadeStackImage {
+  std::vector<std::uint32_t> pageTables;  // cascades × 4096
+  const std::vector<std::uint32_t>* distanceAtlas = nullptr;
+  const std::vector<std::uint32_t>* albedoAtlas = nullptr;
+  const std::vector<std::uint32_t>* emissionAtlas = nullptr;
+  std::vector<gpu_shared::CascadeTraceParams> params;
+  glm::dvec3 cascade0MinWorld{0.0};  // world position of cascade 0's minimum corner
+  double voxelSize0 = 0.0;           // cascade-0 voxel size (metres)
+
+  // Cascade-0-relative voxel coordinates of a world position (what rays are given in).
+  glm::vec3 toStack(const glm::dvec3& world) const {
+    return glm::vec3((world - cascade0MinWorld) / voxelSize0);
+  }
+};
+
 struct StreamingOptions {
   int cascades = 6;                             // 1..8
   std::uint32_t atlasSlots = 16384;             // shared brick budget (see atlasBytes())
@@ -64,6 +81,8 @@ class CascadeStack {
   const std::vector<std::uint32_t>& atlasEmission() const { return emission_; }
   std::vector<std::uint32_t> takeDirtySlots();
   std::size_t atlasBytes() const;
+  // Every cascade as the stack traversal takes it (copies the page tables, points at the atlas).
+  CascadeStackImage stackImage() const;
   // A cascade as the single-cascade tracer takes it (copies the page table and the atlas).
   CascadeImage cascadeImage(int c) const;
   // True when no page of any cascade is missing.

@@ -10,7 +10,9 @@ int runInfo(int argc, char** argv);     // tools/cmd_pack.cpp
 int runVerify(int argc, char** argv);   // tools/cmd_pack.cpp
 int runMerge(int argc, char** argv);    // tools/cmd_pack.cpp
 int runDemo(int argc, char** argv);
+int runFly(int argc, char** argv);  // tools/cmd_fly.cpp
 int runGenerateWorld(int argc, char** argv);  // tools/cmd_generate_world.cpp
 int runBench(int argc, char** argv);          // tools/cmd_bench.cpp
+int runBenchScroll(int argc, char** argv);    // tools/bench_scroll.cpp (argv[2] == "scroll")
 
 }  // namespace sdfstream::cli

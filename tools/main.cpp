@@ -21,6 +21,7 @@ const char* kUsage =
     "  merge SHARD... -o WORLD   join packs imported with --shard i/n\n"
     "  generate-world -o LAYOUT.json   write the large built-in world's layout\n"
     "  bench import|...   benchmarks (outputs under out/bench)\n"
+    "  fly WORLD -o DIR [--path FILE] [--frames N]   stream a fly-through; frames + metrics\n"
     "  demo [-o DIR]  import the built-in scene, render views, write PNGs and a report\n";
 }
 
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
     if (command == "verify") return sdfstream::cli::runVerify(argc, argv);
     if (command == "merge") return sdfstream::cli::runMerge(argc, argv);
     if (command == "demo") return sdfstream::cli::runDemo(argc, argv);
+    if (command == "fly") return sdfstream::cli::runFly(argc, argv);
     if (command == "generate-world") return sdfstream::cli::runGenerateWorld(argc, argv);
     if (command == "bench") return sdfstream::cli::runBench(argc, argv);
     std::fprintf(stderr, "sdfstream: unknown command '%s'\n%s", command.c_str(), kUsage);

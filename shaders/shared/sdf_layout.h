@@ -61,6 +61,8 @@ struct TraceHit {
 SDF_CONST uint kHitFlagHit = 1u;
 SDF_CONST uint kHitFlagRanOutOfSteps = 2u;
 SDF_CONST uint kHitFlagMissingData = 4u;  // stopped at a page not streamed in yet
+SDF_CONST uint kHitFlagFellBack = 8u;     // a missing page sent the ray to a coarser cascade
+SDF_CONST uint kHitCascadeShift = 8u;     // flags >> 8 & 15: cascade of the hit (stack traversal)
 
 // Push constants of trace_rays.comp.
 struct TracePushConstants {
@@ -71,9 +73,28 @@ struct TracePushConstants {
   uint pad0;             //                                                       (28..31)
 };
 
+// One cascade of the stack as the multi-cascade traversal sees it (sdfTraceStack).
+struct CascadeTraceParams {
+  vec4 offsetScale;  // xyz: this cascade's min corner in cascade-0 voxels relative to cascade 0's
+                     // min corner; w: its voxel size in cascade-0 voxels (2^c)      (0..15)
+  uvec4 toroidal;    // xyz: origin brick mod 16; w: first page-table entry (c * 4096) (16..31)
+};
+
+// Push constants of trace_stack.comp.
+struct TraceStackPushConstants {
+  uint rayCount;
+  uint maxSteps;
+  float hitEpsilon;
+  uint cascadeCount;
+};
+
+SDF_CONST uint kMaxCascades = 8;
+
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
+static_assert(sizeof(sdfstream::gpu_shared::CascadeTraceParams) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 32);

@@ -1,0 +1,41 @@
+// The stack traversal on the GPU (trace_stack.comp), fed by a streaming CascadeStack. Keeps the
+// page tables, the shared atlas and the cascade params in device buffers and, per frame, uploads
+// only what changed: the page tables (16 KiB per cascade) and the atlas slots the stack rewrote.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "gi/cpu_tracer.h"
+#include "gpu/buffer.h"
+#include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream {
+
+class GpuStackTracer {
+ public:
+  GpuStackTracer(gpu::Context& context, const CascadeStack& stack);
+
+  // Uploads the stack's page tables, params and the given dirty atlas slots (from
+  // CascadeStack::takeDirtySlots). Returns the bytes uploaded.
+  std::size_t sync(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots);
+
+  // Traces rays given in cascade-0 voxels (CascadeStackImage::toStack); blocks for the results.
+  std::vector<gpu_shared::TraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
+                                          const TraceSettings& settings);
+  const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
+  double lastMilliseconds(const std::string& pass) const;
+
+ private:
+  gpu::Context& context_;
+  gpu::ComputePipeline pipeline_;
+  std::uint32_t cascadeCount_;
+  gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
+  gpu::Buffer staging_, rays_, hits_;
+  std::vector<gpu::PassTiming> timings_;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,21 @@
+#include "streaming/pack_store.h"
+
+namespace sdfstream {
+
+PackTileStore::PackTileStore(std::filesystem::path dir)
+    : dir_(std::move(dir)), manifest_(readManifest(dir_)) {
+  for (const TileEntry& e : manifest_.tiles) entries_[e.coord] = &e;
+}
+
+std::shared_ptr<const Tile> PackTileStore::load(glm::ivec3 tile) const {
+  auto it = entries_.find(tile);
+  if (it == entries_.end()) return nullptr;
+  return std::make_shared<const Tile>(readTile(dir_, *it->second, manifest_.spec.lodCount));
+}
+
+std::size_t PackTileStore::tileBytes(glm::ivec3 tile) const {
+  auto it = entries_.find(tile);
+  return it == entries_.end() ? 0 : std::size_t(it->second->bytes);
+}
+
+}  // namespace sdfstream
