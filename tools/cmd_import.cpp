@@ -45,25 +45,4 @@ int runImport(int argc, char** argv) {
   return 0;
 }
 
-int runInfo(int argc, char** argv) {
-  Args args(argc, argv, 2, {}, {"--help", "-h"});
-  if (args.has("--help") || args.has("-h")) {
-    std::puts("usage: sdfstream info WORLD\n\nVerifies every checksum and prints a summary.");
-    return 0;
-  }
-  if (args.positional().size() != 1)
-    throw InputError(InputErrorKind::Usage, "command line", "expected: sdfstream info WORLD");
-  World world = readWorld(args.positional()[0]);
-  glm::dvec3 lo = world.worldMin(), hi = world.worldMax();
-  glm::ivec3 cells = world.indexMax() - world.indexMin();
-  std::printf(
-      "world      %s\nsource     %s\nvoxel      %.6g m\nbricks     %zu (%.1f MiB)\n"
-      "bounds     (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f) m\ncells      %d x %d x %d\n"
-      "checksums  ok\n",
-      args.positional()[0].c_str(), world.source.c_str(), world.voxelSize, world.bricks.size(),
-      double(world.bricks.size() * sizeof(Brick)) / (1 << 20), lo.x, lo.y, lo.z, hi.x, hi.y, hi.z,
-      cells.x, cells.y, cells.z);
-  return 0;
-}
-
 }  // namespace sdfstream::cli

@@ -1,40 +1,26 @@
-// The on-disk world: a directory with world.json (description) and bricks.bin (brick data).
-//
-// bricks.bin, little-endian (byte offsets):
-//   0   char[8]  magic "SDFBRICK"
-//   8   u32      version (kBricksVersion)
-//   12  u32      section count (4)
-//   16  u64      brick count n
-//   24  4 × { u64 offset, u64 size, u64 xxh3 checksum }  sections in order:
-//         coords    n × 3 × i32          brick coordinates, sorted by brickCoordLess
-//         distances n × 729 × u16 (fp16) Brick::distance
-//         albedo    n × 512 × u32        Brick::albedo (RGBA8 sRGB)
-//         emission  n × 512 × u32        Brick::emission (RGB9E5)
-//   120 section data, each section at its offset (8-byte aligned, contiguous, in order).
-// world.json: format "sdfstream-world", version, voxelSize, origin, indexMin/indexMax, brickCount,
-// source, and bricks.bin's byte size and xxh3 checksum (whole file).
+// The one-voxel-size World on disk, as a world pack (pack.h) with a single LOD. Kept for the
+// callers that still work with whole Worlds (import, demo, render) until they build tiles and
+// stream them; the bytes are pack files, the old bricks.bin format is gone.
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
 
 #include "world/world.h"
 
 namespace sdfstream {
 
-inline constexpr std::uint32_t kWorldVersion = 1;
-inline constexpr std::uint32_t kBricksVersion = 1;
+// Tile edge used by writeWorld, in voxels: 16 bricks, so a tile's emptyDistance is 4 KiB.
+inline constexpr int kWorldTileVoxels = 128;
 
-// Writes dir atomically (core/AtomicDirectory): on failure dir is untouched (an existing one is
-// kept), and no temp directory is left behind. Identical worlds give byte-identical files (no
-// timestamps, fixed JSON formatting). Throws InputError(Io).
+// Writes `world` as a 1-LOD pack (v0 = world.voxelSize, origin = world.origin, tiles of
+// kWorldTileVoxels), atomically (see PackWriter): on failure dir is untouched and no staging
+// directory is left. emptyDistance follows partition.h's rule over the World's own bricks
+// (slots beyond the one-brick ring count as occupied). Bounds in the manifest are the bricks'
+// cell bounds. The World's bricks must be sorted and unique (World's invariant). Deterministic.
+// Throws InputError(Io).
 void writeWorld(const World& world, const std::filesystem::path& dir);
 
-// Reads and fully verifies a world written by writeWorld. Safe on untrusted input. Errors
-// (InputError, naming the file): Io (missing file), Malformed (bad JSON, wrong types, bad magic,
-// inconsistent header, unsorted bricks), Version (format or version not supported), Truncated
-// (a file or section shorter than declared), Checksum (names the section, or the whole file when
-// only the header differs), NonFinite (voxel size / origin).
+// loadLod(dir, 0): reads and fully verifies a pack; safe on untrusted input (pack.h's errors).
 World readWorld(const std::filesystem::path& dir);
 
 }  // namespace sdfstream

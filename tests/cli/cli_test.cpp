@@ -4,10 +4,12 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "tests/support/test_data.h"
 
@@ -54,6 +56,21 @@ void expectCleanFailure(const fs::path& input, const std::string& kind) {
 
 const fs::path kGltf2 = "/usr/share/assimp/models/glTF2";
 
+// Every file of a world pack (manifest.json and tiles/*.tile) in name order, names and bytes.
+std::string packBytes(const fs::path& world) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(world))
+    if (e.is_regular_file()) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::string all;
+  for (const fs::path& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    all += fs::relative(f, world).string() + "\n";
+    all.append(std::istreambuf_iterator<char>(in), {});
+  }
+  return all;
+}
+
 TEST(Cli, BadGltfInputsFailWithOneLineAndNoOutput) {
   expectCleanFailure(kGltf2 / "MissingBin/BoxTextured.gltf", "missing-data");
   expectCleanFailure(kGltf2 / "IndexOutOfRange/IndexOutOfRange.gltf", "out-of-range");
@@ -96,13 +113,13 @@ TEST(Cli, FailedImportKeepsAnExistingWorld) {
   RunResult ok = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
                      " -o " + world.string());
   ASSERT_EQ(ok.exitCode, 0) << ok.err;
-  std::ifstream before(world / "bricks.bin", std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(before)), {});
+  ASSERT_TRUE(fs::exists(world / "manifest.json"));
+  ASSERT_FALSE(fs::is_empty(world / "tiles"));
+  std::string bytes = packBytes(world);
   RunResult bad = run("import " + (kGltf2 / "MissingBin/BoxTextured.gltf").string() + " -o " +
                       world.string());
   EXPECT_NE(bad.exitCode, 0);
-  std::ifstream after(world / "bricks.bin", std::ios::binary);
-  EXPECT_EQ(bytes, std::string((std::istreambuf_iterator<char>(after)), {}));
+  EXPECT_EQ(bytes, packBytes(world));
   int entries = 0;
   for (auto& e : fs::directory_iterator(dir)) entries += e.path().filename() == "world" ? 0 : 1;
   EXPECT_EQ(entries, 0) << "no temp directories left behind";
@@ -123,7 +140,10 @@ TEST(Cli, ImportRenderInfoAndHelp) {
   EXPECT_EQ(render.err, "");
   EXPECT_TRUE(fs::exists(dir / "box.png"));
   EXPECT_NE(render.out.find("rays hit"), std::string::npos);
-  for (const char* cmd : {"import", "render", "info", "demo"}) {
+  RunResult verify = run("verify " + (dir / "world").string());
+  EXPECT_EQ(verify.exitCode, 0) << verify.err;
+  EXPECT_EQ(verify.out.rfind("ok: ", 0), 0u) << verify.out;
+  for (const char* cmd : {"import", "render", "info", "verify", "merge", "demo"}) {
     RunResult help = run(std::string(cmd) + " --help");
     EXPECT_EQ(help.exitCode, 0) << cmd;
     EXPECT_NE(help.out.find("usage: sdfstream"), std::string::npos) << cmd;
