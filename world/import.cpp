@@ -8,9 +8,9 @@
 #include "world/gltf_import.h"
 #include "world/mesh_to_sdf.h"
 #include "world/obj_import.h"
+#include "world/pack_import.h"
 #include "world/scene_layout.h"
 #include "world/vdb_import.h"
-#include "world/world_io.h"
 
 namespace sdfstream {
 
@@ -37,7 +37,14 @@ World importScene(const std::filesystem::path& input, const ImportOptions& optio
 
 void importToDirectory(const std::filesystem::path& input, const std::filesystem::path& outDir,
                        const ImportOptions& options) {
-  writeWorld(importScene(input, options), outDir);
+  PackImportOptions pack;
+  pack.voxelSize = options.voxelSize;
+  pack.lodCount = options.lodCount;
+  pack.tileVoxels = options.tileVoxels;
+  pack.limits = options.limits;
+  auto sources = sourcesForInput(input, options.voxelSize, options.limits);
+  const std::string name = input.filename().string();
+  importPack(sources, outDir, partitionFor(sources, pack, name), pack, name);
 }
 
 }  // namespace sdfstream

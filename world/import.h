@@ -11,6 +11,8 @@ namespace sdfstream {
 struct ImportOptions {
   double voxelSize = 0;  // metres; 0 = defaultVoxelSize (meshes) or the grid's own (.vdb)
   ImportLimits limits;
+  int lodCount = 4;  // importToDirectory only (pack_import.h)
+  int tileVoxels = 128;
 };
 
 // Dispatches on the extension (case-insensitive): .gltf/.glb → loadGltf, .obj → loadObj,
@@ -18,8 +20,9 @@ struct ImportOptions {
 // Other errors as documented by those functions.
 World importScene(const std::filesystem::path& input, const ImportOptions& options);
 
-// importScene + writeWorld. The output directory appears only when everything succeeded: a
-// failure leaves no new directory, an existing one intact, and no temp directory behind.
+// sourcesForInput + partitionFor + importPack (pack_import.h): writes a world pack. The output
+// directory appears only when everything succeeded: a failure leaves no new directory, an
+// existing one intact, and no temp directory behind (PackWriter's guarantee).
 void importToDirectory(const std::filesystem::path& input, const std::filesystem::path& outDir,
                        const ImportOptions& options);
 

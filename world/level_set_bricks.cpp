@@ -94,4 +94,55 @@ World bricksFromLevelSet(const openvdb::FloatGrid& grid, const BrickMaterialFn& 
   return world;
 }
 
+bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick, float voxelSize,
+                        BrickSamples& out, std::array<float, layout::kBrickSampleCount>* own) {
+  const openvdb::Coord base(brick.x * kCells, brick.y * kCells, brick.z * kCells);
+  const float bandWorld = layout::kNarrowBand * voxelSize;
+  // Samples 8b..8b+8 lie in the leaf at 8b and (apron) its + neighbours. Without any leaf there,
+  // each of those 8 leaf-sized blocks holds one tile or background value.
+  bool anyLeaf = false, allFar = true;
+  float block[8];
+  for (int corner = 0; corner < 8 && !anyLeaf; ++corner) {
+    const openvdb::Coord c =
+        base.offsetBy(corner & 1 ? kCells : 0, corner & 2 ? kCells : 0, corner & 4 ? kCells : 0);
+    if (acc.probeConstLeaf(c)) {
+      anyLeaf = true;
+    } else {
+      block[corner] = acc.getValue(c);
+      if (!std::isfinite(block[corner])) block[corner] = bandWorld;  // non-finite reads as far
+      if (!(block[corner] >= bandWorld)) allFar = false;
+    }
+  }
+  if (!anyLeaf && allFar) return false;
+  if (!anyLeaf) {  // constant blocks (e.g. deep inside): no per-sample tree walk
+    bool near = false;
+    for (int z = 0; z < kSamples; ++z)
+      for (int y = 0; y < kSamples; ++y)
+        for (int x = 0; x < kSamples; ++x) {
+          const int corner = (x >= kCells) | (y >= kCells) << 1 | (z >= kCells) << 2;
+          const float d =
+              std::clamp(block[corner] / voxelSize, -layout::kNarrowBand, layout::kNarrowBand);
+          near = near || std::abs(d) < layout::kNarrowBand;
+          const std::size_t i = std::size_t(brickSampleIndex(x, y, z));
+          if (own) (*own)[i] = d;
+          out.distance[i] = std::min(out.distance[i], d);
+        }
+    return near;
+  }
+  const float invVoxel = 1.0f / voxelSize;
+  bool near = false;
+  for (int z = 0; z < kSamples; ++z)
+    for (int y = 0; y < kSamples; ++y)
+      for (int x = 0; x < kSamples; ++x) {
+        float d = acc.getValue(base.offsetBy(x, y, z)) * invVoxel;
+        if (!std::isfinite(d)) d = layout::kNarrowBand;
+        d = std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+        near = near || std::abs(d) < layout::kNarrowBand;
+        const int i = brickSampleIndex(x, y, z);
+        if (own) (*own)[std::size_t(i)] = d;
+        out.distance[std::size_t(i)] = std::min(out.distance[std::size_t(i)], d);
+      }
+  return near;
+}
+
 }  // namespace sdfstream

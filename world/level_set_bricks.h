@@ -2,10 +2,14 @@
 // units, uniform voxel size) → the World's 8³ bricks. Internal to world/ (includes OpenVDB).
 #pragma once
 
+#include <array>
+#include <filesystem>
 #include <functional>
 
 #include <openvdb/openvdb.h>
 
+#include "world/sdf_source.h"
+#include "world/triangle_scene.h"
 #include "world/world.h"
 
 namespace sdfstream {
@@ -27,5 +31,36 @@ World bricksFromLevelSet(const openvdb::FloatGrid& grid, const BrickMaterialFn& 
 // trees, OpenVDB's scratch trees during mesh conversion, partially filled leaves and the output
 // bricks. Deliberately conservative.
 inline constexpr double kBytesPerBandVoxel = 48.0;
+
+// --- Shared by the whole-world importers and the SdfSources (mesh_source, vdb_source). ---
+
+// A mesh's level set on the grid with voxel `voxelSize` whose index 0 sits at world `origin`, and
+// OpenVDB's closest-polygon index grid (INVALID_IDX where none). Sign rule of mesh_to_sdf.h:
+// closed → signed, open → unsigned minus half a voxel. Band kNarrowBand voxels (+0.5 when open).
+// Defined in mesh_to_sdf.cpp. The scene must have passed validation (indices in range, finite).
+struct MeshLevelSet {
+  openvdb::FloatGrid::Ptr distance;
+  openvdb::Int32Grid::Ptr closest;
+};
+MeshLevelSet meshLevelSet(const TriangleScene& scene, bool closed, double voxelSize,
+                          glm::dvec3 origin);
+// Throws the InputErrors of meshToWorld's validation (Empty, NonFinite, OutOfRange).
+void validateScene(const TriangleScene& scene);
+// Closest point on triangle (a,b,c) to p as barycentrics (b1, b2) of b and c.
+glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
+
+// The float level set vdbToWorld would import from a file (grid choice, errors and untrusted-input
+// handling of vdb_import.h). Defined in vdb_import.cpp.
+openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& file);
+// Linear, axis-aligned, uniform positive scale (+ translation).
+bool isUniformAxisAligned(const openvdb::math::Transform& xf);
+
+// Min-unions LOD brick `brick` of `grid` (index i = LOD sample i) into out.distance: values /
+// voxelSize, non-finite → +kNarrowBand, clamped ±kNarrowBand. own (optional) receives this grid's
+// samples alone. Skips the 729 reads when no leaf lies under the brick's samples and every
+// covering tile / background value is ≥ the band (returns false, own untouched then). Returns
+// whether any of its samples has |d| < kNarrowBand.
+bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick, float voxelSize,
+                        BrickSamples& out, std::array<float, layout::kBrickSampleCount>* own);
 
 }  // namespace sdfstream

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,14 @@ namespace sdfstream {
 namespace {
 
 constexpr int kCells = int(layout::kBrickCells);
+
+std::string formatBytes(double bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f GiB", bytes / double(1ull << 30));
+  return buf;
+}
+
+}  // namespace
 
 // Closest point on triangle (a,b,c) to p (Ericson, Real-Time Collision Detection 5.1.5), returned
 // as barycentrics (b1, b2) of b and c.
@@ -46,13 +55,7 @@ glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
   return {vb * denom, vc * denom};
 }
 
-std::string formatBytes(double bytes) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f GiB", bytes / double(1ull << 30));
-  return buf;
-}
-
-void validate(const TriangleScene& scene) {
+void validateScene(const TriangleScene& scene) {
   if (scene.triangles.empty())
     throw InputError(InputErrorKind::Empty, scene.source, "scene holds no triangles");
   for (const glm::vec3& p : scene.positions)
@@ -66,7 +69,42 @@ void validate(const TriangleScene& scene) {
   }
 }
 
-}  // namespace
+MeshLevelSet meshLevelSet(const TriangleScene& scene, bool closed, double voxelSize,
+                          glm::dvec3 origin) {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+  std::vector<openvdb::Vec3d> points(scene.positions.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    glm::dvec3 p = (glm::dvec3(scene.positions[i]) - origin) / voxelSize;  // index space
+    points[i] = openvdb::Vec3d(p.x, p.y, p.z);
+  }
+  std::vector<openvdb::Vec3I> polygons(scene.triangles.size());
+  for (std::size_t i = 0; i < polygons.size(); ++i)
+    polygons[i] = openvdb::Vec3I(scene.triangles[i].x, scene.triangles[i].y, scene.triangles[i].z);
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3d, openvdb::Vec3I> mesh(points, polygons);
+  auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+  transform->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
+  MeshLevelSet out;
+  out.closest = openvdb::Int32Grid::create(openvdb::Int32(openvdb::util::INVALID_IDX));
+  const float band = layout::kNarrowBand;
+  if (closed) {
+    out.distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band, 0,
+                                                                    out.closest.get());
+  } else {
+    // Unsigned distance with half a voxel more band, then shifted down by half a voxel: open
+    // sheets become closed shells and distances stay exact out to kNarrowBand (see header).
+    const float half = float(0.5 * voxelSize);
+    out.distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
+        mesh, *transform, band + 0.5f, band + 0.5f, openvdb::tools::UNSIGNED_DISTANCE_FIELD,
+        out.closest.get());
+    for (auto it = out.distance->beginValueOn(); it; ++it) it.setValue(*it - half);
+    out.distance->tree().root().setBackground(out.distance->background() - half,
+                                              /*updateChildNodes=*/true);
+    out.distance->setGridClass(openvdb::GRID_LEVEL_SET);
+  }
+  out.closest->setTransform(transform->copy());
+  return out;
+}
 
 double defaultVoxelSize(const TriangleScene& scene) {
   glm::vec3 extent = scene.boundsMax() - scene.boundsMin();
@@ -118,7 +156,7 @@ double estimateMeshImportBytes(const TriangleScene& scene, double voxelSize) {
 }
 
 World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimits& limits) {
-  validate(scene);
+  validateScene(scene);
   if (voxelSize == 0.0) voxelSize = defaultVoxelSize(scene);
   if (!(voxelSize > 0.0) || !std::isfinite(voxelSize)) {
     if (voxelSize == 0.0)
@@ -136,39 +174,10 @@ World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimi
                          formatBytes(estimate) + " (limit " + formatBytes(double(limits.maxBytes)) +
                          "); pass a larger voxel size");
 
-  openvdb::initialize();
   const bool closed = isClosedMesh(scene);
-  std::vector<openvdb::Vec3d> points(scene.positions.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    glm::dvec3 p = glm::dvec3(scene.positions[i]) / voxelSize;  // index space
-    points[i] = openvdb::Vec3d(p.x, p.y, p.z);
-  }
-  std::vector<openvdb::Vec3I> polygons(scene.triangles.size());
-  for (std::size_t i = 0; i < polygons.size(); ++i)
-    polygons[i] = openvdb::Vec3I(scene.triangles[i].x, scene.triangles[i].y, scene.triangles[i].z);
-  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3d, openvdb::Vec3I> mesh(points, polygons);
-  auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
-  openvdb::Int32Grid indexGrid(openvdb::Int32(openvdb::util::INVALID_IDX));
-  const float band = layout::kNarrowBand;
-  openvdb::FloatGrid::Ptr grid;
-  if (closed) {
-    grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band, 0,
-                                                            &indexGrid);
-  } else {
-    // Unsigned distance with half a voxel more band, then shifted down by half a voxel: open
-    // sheets become closed shells and distances stay exact out to kNarrowBand (see header).
-    const float half = float(0.5 * voxelSize);
-    grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(
-        mesh, *transform, band + 0.5f, band + 0.5f, openvdb::tools::UNSIGNED_DISTANCE_FIELD,
-        &indexGrid);
-    for (auto it = grid->beginValueOn(); it; ++it) it.setValue(*it - half);
-    grid->tree().root().setBackground(grid->background() - half, /*updateChildNodes=*/true);
-    grid->setGridClass(openvdb::GRID_LEVEL_SET);
-  }
-  points.clear();
-  points.shrink_to_fit();
-  polygons.clear();
-  polygons.shrink_to_fit();
+  MeshLevelSet levelSet = meshLevelSet(scene, closed, voxelSize, glm::dvec3(0.0));
+  const openvdb::FloatGrid::Ptr& grid = levelSet.distance;
+  const openvdb::Int32Grid& indexGrid = *levelSet.closest;
 
   const auto triangleCount = scene.triangles.size();
   World world = bricksFromLevelSet(*grid, [&](Brick& brick) {

@@ -21,6 +21,8 @@ void initializeOpenVdb() {
   std::call_once(once, [] { openvdb::initialize(); });
 }
 
+}  // namespace
+
 // Linear, axis-aligned, uniform positive scale (+ translation): honoured without resampling.
 bool isUniformAxisAligned(const openvdb::math::Transform& xf) {
   if (!xf.isLinear()) return false;
@@ -32,6 +34,8 @@ bool isUniformAxisAligned(const openvdb::math::Transform& xf) {
       if (std::abs(m(i, j) - (i == j ? s : 0.0)) > 1e-9 * s) return false;
   return true;
 }
+
+namespace {
 
 // An unlabelled float grid that is a level set in all but name (see vdb_import.h).
 bool looksLikeLevelSet(const openvdb::FloatGrid& grid) {
@@ -52,11 +56,8 @@ std::string describe(const openvdb::GridBase& grid) {
 
 }  // namespace
 
-World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
-                 const ImportLimits& limits) {
+openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& path) {
   const std::string file = path.string();
-  if (!(voxelSizeOverride >= 0.0) || !std::isfinite(voxelSizeOverride))
-    throw InputError(InputErrorKind::OutOfRange, file, "voxel size must be positive (or 0)");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(InputErrorKind::Io, file, "cannot open: no such file");
@@ -97,6 +98,16 @@ World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
     throw InputError(InputErrorKind::Truncated, file,
                      std::string("truncated or corrupt .vdb: ") + e.what());
   }
+
+  return grid;
+}
+
+World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
+                 const ImportLimits& limits) {
+  const std::string file = path.string();
+  if (!(voxelSizeOverride >= 0.0) || !std::isfinite(voxelSizeOverride))
+    throw InputError(InputErrorKind::OutOfRange, file, "voxel size must be positive (or 0)");
+  openvdb::FloatGrid::Ptr grid = readLevelSetFile(path);
 
   const bool keep = voxelSizeOverride == 0.0 && isUniformAxisAligned(grid->transform());
   const double voxelSize = voxelSizeOverride > 0.0 ? voxelSizeOverride : grid->voxelSize()[0];
