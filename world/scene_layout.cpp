@@ -68,8 +68,94 @@ struct Reader {
   }
 };
 
+TriangleScene makeBox(glm::vec3 lo, glm::vec3 hi, const Material& material) {
+  TriangleScene box;
+  for (int i = 0; i < 8; ++i)  // corner i: bit 0 → x, bit 1 → y, bit 2 → z
+    box.positions.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  box.uvs.assign(8, glm::vec2(0.0f));
+  // Two counter-clockwise (seen from outside) triangles per face: -x, +x, -y, +y, -z, +z.
+  static const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                       {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& f : faces) {
+    box.triangles.emplace_back(f[0], f[1], f[2]);
+    box.triangles.emplace_back(f[0], f[2], f[3]);
+  }
+  box.triangleMaterial.assign(12, 0);
+  box.materials.push_back(material);
+  return box;
+}
+
+// Reads the placement keys shared by "assets" entries and "placements" items.
+LayoutPlacement readPlacement(const Reader& r, const Json& a, const std::string& path) {
+  LayoutPlacement p;
+  p.translation = r.numbers<3>(a, path, "translation", glm::dvec3(0.0));
+  const glm::dvec4 q = r.numbers<4>(a, path, "rotation", glm::dvec4(0, 0, 0, 1));
+  if (glm::length(q) < 1e-12) r.fail(Kind::Malformed, path + ".rotation", "zero quaternion");
+  p.rotation = glm::normalize(glm::dquat(q.w, q.x, q.y, q.z));
+  if (auto it = a.find("scale"); it != a.end())
+    p.scale = it->is_number() ? glm::dvec3(r.number(*it, path + ".scale"))
+                              : r.numbers<3>(a, path, "scale", p.scale);
+  return p;
+}
+
+// The keys describing the asset itself (file, fitSize, onGround, name).
+LayoutAsset readAsset(const Reader& r, const Json& a, const std::string& path,
+                      const std::filesystem::path& dir) {
+  LayoutAsset asset;
+  asset.key = path;
+  auto f = a.find("file");
+  if (f == a.end() || !f->is_string() || f->get<std::string>().empty())
+    r.fail(Kind::Malformed, path + ".file", "expected a file name");
+  if (auto n = a.find("name"); n != a.end() && !n->is_string())
+    r.fail(Kind::Malformed, path + ".name", "expected a string");
+  if (auto it = a.find("fitSize"); it != a.end()) {
+    asset.fitSize = r.number(*it, path + ".fitSize");
+    if (*asset.fitSize <= 0.0) r.fail(Kind::Malformed, path + ".fitSize", "expected a size > 0");
+  }
+  if (auto it = a.find("onGround"); it != a.end()) {
+    if (!it->is_boolean()) r.fail(Kind::Malformed, path + ".onGround", "expected true or false");
+    asset.onGround = it->get<bool>();
+  }
+  asset.file = f->get<std::string>();
+  if (asset.file.is_relative()) asset.file = dir / asset.file;
+  std::error_code ec;
+  if (!std::filesystem::exists(asset.file, ec))
+    r.fail(Kind::MissingData, path + ".file", asset.file.string() + " does not exist");
+  return asset;
+}
+
+HeightfieldDesc readTerrain(const Reader& r, const Json& t, const std::filesystem::path& dir) {
+  const std::string path = "terrain";
+  r.onlyKeys(t, path, {"heightmap", "metresPerPixel", "heightScale", "origin", "albedo", "name"});
+  HeightfieldDesc desc;
+  auto f = t.find("heightmap");
+  if (f == t.end() || !f->is_string() || f->get<std::string>().empty())
+    r.fail(Kind::Malformed, path + ".heightmap", "expected a file name");
+  desc.png = f->get<std::string>();
+  if (desc.png.is_relative()) desc.png = dir / desc.png;
+  std::error_code ec;
+  if (!std::filesystem::exists(desc.png, ec))
+    r.fail(Kind::MissingData, path + ".heightmap", desc.png.string() + " does not exist");
+  auto required = [&](const char* key) {
+    auto it = t.find(key);
+    if (it == t.end()) r.fail(Kind::Malformed, path + "." + key, "required");
+    return r.number(*it, path + "." + key);
+  };
+  desc.metresPerPixel = required("metresPerPixel");
+  if (desc.metresPerPixel <= 0.0)
+    r.fail(Kind::Malformed, path + ".metresPerPixel", "expected a size > 0");
+  desc.heightScale = required("heightScale");
+  if (desc.heightScale < 0.0)
+    r.fail(Kind::Malformed, path + ".heightScale", "expected a height >= 0");
+  desc.origin = r.numbers<3>(t, path, "origin", glm::dvec3(0.0));
+  desc.albedo = glm::vec3(r.numbers<3>(t, path, "albedo", glm::dvec3(desc.albedo)));
+  return desc;
+}
+
+}  // namespace
+
 // Appends `part` to `out` transformed by m (materials and textures re-indexed).
-void append(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) {
+void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) {
   const auto vertexBase = std::uint32_t(out.positions.size());
   const auto materialBase = std::uint32_t(out.materials.size());
   const int textureBase = int(out.textures.size());
@@ -89,26 +175,7 @@ void append(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) 
   out.textures.insert(out.textures.end(), part.textures.begin(), part.textures.end());
 }
 
-TriangleScene makeBox(glm::vec3 lo, glm::vec3 hi, const Material& material) {
-  TriangleScene box;
-  for (int i = 0; i < 8; ++i)  // corner i: bit 0 → x, bit 1 → y, bit 2 → z
-    box.positions.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-  box.uvs.assign(8, glm::vec2(0.0f));
-  // Two counter-clockwise (seen from outside) triangles per face: -x, +x, -y, +y, -z, +z.
-  static const unsigned faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                       {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& f : faces) {
-    box.triangles.emplace_back(f[0], f[1], f[2]);
-    box.triangles.emplace_back(f[0], f[2], f[3]);
-  }
-  box.triangleMaterial.assign(12, 0);
-  box.materials.push_back(material);
-  return box;
-}
-
-}  // namespace
-
-TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
+ParsedLayout parseLayout(const std::filesystem::path& jsonFile) {
   Reader r{jsonFile.string()};
   std::ifstream in(jsonFile, std::ios::binary);
   std::error_code ec;
@@ -125,67 +192,38 @@ TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
                      "invalid JSON at " + detail::jsonLineColumn(text, e.byte) + ": " + reason);
   }
   if (!root.is_object()) throw InputError(Kind::Malformed, r.file, "top level is not an object");
-  r.onlyKeys(root, "layout", {"assets", "boxes"});
+  r.onlyKeys(root, "layout", {"assets", "instances", "boxes", "terrain", "comment"});
+  const std::filesystem::path dir = jsonFile.parent_path();
 
-  TriangleScene scene;
-  scene.source = r.file;
+  ParsedLayout layout;
+  layout.file = r.file;
+  layout.boxes.source = r.file;
   if (const Json* assets = r.array(root, "assets")) {
     for (std::size_t i = 0; i < assets->size(); ++i) {
       const Json& a = (*assets)[i];
       const std::string path = "assets[" + std::to_string(i) + "]";
       r.onlyKeys(a, path,
                  {"file", "translation", "rotation", "scale", "fitSize", "onGround", "name"});
-      auto f = a.find("file");
-      if (f == a.end() || !f->is_string() || f->get<std::string>().empty())
-        r.fail(Kind::Malformed, path + ".file", "expected a file name");
-      if (auto n = a.find("name"); n != a.end() && !n->is_string())
-        r.fail(Kind::Malformed, path + ".name", "expected a string");
-      const glm::dvec3 t = r.numbers<3>(a, path, "translation", glm::dvec3(0.0));
-      const glm::dvec4 q = r.numbers<4>(a, path, "rotation", glm::dvec4(0, 0, 0, 1));
-      if (glm::length(q) < 1e-12) r.fail(Kind::Malformed, path + ".rotation", "zero quaternion");
-      glm::dvec3 s(1.0);
-      if (auto it = a.find("scale"); it != a.end())
-        s = it->is_number() ? glm::dvec3(r.number(*it, path + ".scale"))
-                            : r.numbers<3>(a, path, "scale", s);
-      std::optional<double> fitSize;
-      if (auto it = a.find("fitSize"); it != a.end()) {
-        fitSize = r.number(*it, path + ".fitSize");
-        if (*fitSize <= 0.0) r.fail(Kind::Malformed, path + ".fitSize", "expected a size > 0");
+      LayoutAsset asset = readAsset(r, a, path, dir);
+      asset.placements.push_back(readPlacement(r, a, path));
+      layout.assets.push_back(std::move(asset));
+    }
+  }
+  if (const Json* instances = r.array(root, "instances")) {
+    for (std::size_t i = 0; i < instances->size(); ++i) {
+      const Json& a = (*instances)[i];
+      const std::string path = "instances[" + std::to_string(i) + "]";
+      r.onlyKeys(a, path, {"file", "fitSize", "onGround", "name", "placements"});
+      LayoutAsset asset = readAsset(r, a, path, dir);
+      auto it = a.find("placements");
+      if (it == a.end() || !it->is_array())
+        r.fail(Kind::Malformed, path + ".placements", "expected an array");
+      for (std::size_t k = 0; k < it->size(); ++k) {
+        const std::string p = path + ".placements[" + std::to_string(k) + "]";
+        r.onlyKeys((*it)[k], p, {"translation", "rotation", "scale"});
+        asset.placements.push_back(readPlacement(r, (*it)[k], p));
       }
-      bool onGround = false;
-      if (auto it = a.find("onGround"); it != a.end()) {
-        if (!it->is_boolean())
-          r.fail(Kind::Malformed, path + ".onGround", "expected true or false");
-        onGround = it->get<bool>();
-      }
-
-      std::filesystem::path assetFile = f->get<std::string>();
-      if (assetFile.is_relative()) assetFile = jsonFile.parent_path() / assetFile;
-      if (!std::filesystem::exists(assetFile, ec))
-        r.fail(Kind::MissingData, path + ".file", assetFile.string() + " does not exist");
-      TriangleScene asset;
-      try {
-        std::string ext = assetFile.extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        asset = ext == ".obj" ? loadObj(assetFile) : loadGltf(assetFile);
-      } catch (const InputError& e) {
-        throw InputError(e.kind(), r.file, path + ".file: " + e.what());
-      }
-
-      // Asset frame first: fit, then rest on the ground; then T * R * S.
-      glm::dmat4 local(1.0);
-      const glm::dvec3 lo = asset.boundsMin(), hi = asset.boundsMax();
-      double fit = 1.0;
-      if (fitSize) {
-        const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-        if (extent > 0.0) fit = *fitSize / extent;
-      }
-      if (onGround) local = glm::translate(local, glm::dvec3(0.0, -lo.y * fit, 0.0));
-      local = glm::scale(local, glm::dvec3(fit));
-      const glm::dquat rot = glm::normalize(glm::dquat(q.w, q.x, q.y, q.z));
-      const glm::dmat4 world =
-          glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(rot) * glm::scale(glm::dmat4(1.0), s);
-      append(scene, asset, world * local);
+      layout.assets.push_back(std::move(asset));
     }
   }
   if (const Json* boxes = r.array(root, "boxes")) {
@@ -207,13 +245,61 @@ TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
       }
       m.baseColorFactor = glm::vec4(glm::vec3(r.numbers<3>(b, path, "albedo", glm::dvec3(0.8))), 1);
       m.emissive = glm::vec3(r.numbers<3>(b, path, "emission", glm::dvec3(0.0)));
-      append(scene, makeBox(glm::vec3(lo), glm::vec3(hi), m), glm::dmat4(1.0));
+      appendTransformed(layout.boxes, makeBox(glm::vec3(lo), glm::vec3(hi), m), glm::dmat4(1.0));
     }
   }
-  if (scene.triangles.empty()) throw InputError(Kind::Empty, r.file, "no assets and no boxes");
+  if (auto t = root.find("terrain"); t != root.end()) layout.terrain = readTerrain(r, *t, dir);
+  if (auto c = root.find("comment"); c != root.end() && !c->is_string())
+    r.fail(Kind::Malformed, "comment", "expected a string");
+  return layout;
+}
+
+TriangleScene loadLayoutAsset(const ParsedLayout& layout, const LayoutAsset& asset) {
+  try {
+    std::string ext = asset.file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == ".obj" ? loadObj(asset.file) : loadGltf(asset.file);
+  } catch (const InputError& e) {
+    throw InputError(e.kind(), layout.file, asset.key + ".file: " + e.what());
+  }
+}
+
+glm::dmat4 placementTransform(const LayoutAsset& asset, const LayoutPlacement& placement,
+                              const TriangleScene& scene) {
+  // Asset frame first: fit, then rest on the ground; then T * R * S.
+  glm::dmat4 local(1.0);
+  const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
+  double fit = 1.0;
+  if (asset.fitSize) {
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    if (extent > 0.0) fit = *asset.fitSize / extent;
+  }
+  if (asset.onGround) local = glm::translate(local, glm::dvec3(0.0, -lo.y * fit, 0.0));
+  local = glm::scale(local, glm::dvec3(fit));
+  const glm::dmat4 world = glm::translate(glm::dmat4(1.0), placement.translation) *
+                           glm::mat4_cast(placement.rotation) *
+                           glm::scale(glm::dmat4(1.0), placement.scale);
+  return world * local;
+}
+
+TriangleScene loadLayout(const std::filesystem::path& jsonFile) {
+  const ParsedLayout layout = parseLayout(jsonFile);
+  if (layout.terrain)
+    throw InputError(Kind::Malformed, layout.file,
+                     "terrain: a heightfield terrain needs the tiled world importer "
+                     "(sdfstream import with a partition), not a single-grid scene");
+  TriangleScene scene;
+  scene.source = layout.file;
+  for (const LayoutAsset& asset : layout.assets) {
+    const TriangleScene part = loadLayoutAsset(layout, asset);
+    for (const LayoutPlacement& p : asset.placements)
+      appendTransformed(scene, part, placementTransform(asset, p, part));
+  }
+  appendTransformed(scene, layout.boxes, glm::dmat4(1.0));
+  if (scene.triangles.empty()) throw InputError(Kind::Empty, layout.file, "no assets and no boxes");
   for (const glm::vec3& p : scene.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw InputError(Kind::NonFinite, r.file, "a transformed vertex is not finite");
+      throw InputError(Kind::NonFinite, layout.file, "a transformed vertex is not finite");
   return scene;
 }
 
