@@ -226,6 +226,8 @@ int benchWorld(const Args& args) {
 }  // namespace
 
 int runBench(int argc, char** argv) {
+  // bench scroll has its own options (tools/bench_scroll.cpp).
+  if (argc > 2 && std::string(argv[2]) == "scroll") return runBenchScroll(argc, argv);
   Args args(argc, argv, 2,
             {"-o", "--mesh", "--voxel", "--runs", "--lods", "--tile-voxels", "--max-memory-gib"},
             {"--help", "-h"});
@@ -235,6 +237,7 @@ int runBench(int argc, char** argv) {
         "usage: sdfstream bench import [--mesh FILE.obj] [--voxel V] [--runs 3] "
         "[-o out/bench/import]\n"
         "       sdfstream bench world LAYOUT.json [--voxel 1] [--lods 4] [-o out/bench/world]\n"
+        "       sdfstream bench scroll WORLD [--moves N] [-o out/bench/scroll]\n"
         "\n"
         "import: LOD-0 import of a mesh (default: glmark2's bunny; voxel default: largest extent\n"
         "        / 256, vdb_tool's default) through sdfstream's tiled importer vs\n"
@@ -242,12 +245,13 @@ int runBench(int argc, char** argv) {
         "        also sdfstream with 4 LODs. Reports time ratios, bricks/s, pack vs .vdb bytes.\n"
         "world:  imports a layout (terrain + instances, see generate-world) to OUT/pack with a\n"
         "        progress bar, then verifies it; reports time, tiles, bricks and size.\n"
-        "Both write results.csv and summary.md into the -o directory.");
+        "scroll: a one-brick camera move vs a full rebuild of every cascade (see its --help).\n"
+        "All write results.csv and summary.md into the -o directory.");
     return what.empty() && !args.has("--help") && !args.has("-h") ? 2 : 0;
   }
   if (what == "import") return benchImport(args);
   if (what == "world") return benchWorld(args);
-  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world)");
+  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world, scroll)");
 }
 
 }  // namespace sdfstream::cli

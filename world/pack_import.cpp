@@ -1,5 +1,7 @@
 #include "world/pack_import.h"
 
+#include "world/layout_sources.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cctype>
@@ -41,9 +43,8 @@ std::vector<std::unique_ptr<SdfSource>> sourcesForInput(const std::filesystem::p
   } else if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
     sources.push_back(makeMeshSource(ext == ".obj" ? loadObj(input) : loadGltf(input)));
   } else if (ext == ".json") {
-    // Hook: layouts with terrain and per-asset (instanced) sources come from
-    // loadLayoutSources (world/layout_sources.h) once it lands; until then the layout is one mesh.
-    sources.push_back(makeMeshSource(loadLayout(input)));
+    // A layout is a union of sources: terrain, one mesh per placement, the boxes.
+    sources = loadLayoutSources(input);
   } else {
     throw InputError(InputErrorKind::Usage, input.string(),
                      "unsupported input type '" + ext +
