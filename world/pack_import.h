@@ -28,7 +28,7 @@ struct PackImportOptions {
 
 // The input file's sources by extension (case-insensitive): .gltf/.glb/.obj → one mesh source
 // (mesh_source.h); .vdb → one vdb source (vdb_source.h, voxelSize as its override); .json →
-// the layout (scene_layout.h) as one mesh source. Errors: those of the loaders, InputError(Usage)
+// the layout's sources (layout_sources.h: terrain, one mesh per placement, boxes). Errors: those of the loaders, InputError(Usage)
 // for an unknown extension.
 std::vector<std::unique_ptr<SdfSource>> sourcesForInput(const std::filesystem::path& input,
                                                         double voxelSize,
