@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "gi/camera.h"
 #include "gi/gpu_stack_tracer.h"
 #include "reference/embree_scene.h"
 #include "streaming/pack_store.h"
@@ -150,6 +151,63 @@ TEST(StackTraceCpu, MissingPagesFallBackToACoarserCascade) {
   EXPECT_EQ(inCascade0, 0);
   EXPECT_GT(fellBack, 1000);
   EXPECT_GE(hitsAfter, hitsBefore * 95 / 100) << "coarser cascades still see the bunny";
+}
+
+// The same pack seen 100 km away: tile and brick coordinates shifted by a whole number of tiles.
+class ShiftedStore : public TileStore {
+ public:
+  ShiftedStore(const TileStore& base, glm::ivec3 shift) : base_(base), shift_(shift) {}
+  const PartitionSpec& spec() const override { return base_.spec(); }
+  bool hasTile(glm::ivec3 t) const override { return base_.hasTile(t - shift_); }
+  std::size_t tileBytes(glm::ivec3 t) const override { return base_.tileBytes(t - shift_); }
+  std::shared_ptr<const Tile> load(glm::ivec3 t) const override {
+    auto src = base_.load(t - shift_);
+    if (!src) return nullptr;
+    auto tile = std::make_shared<Tile>(*src);
+    tile->coord = t;
+    for (int l = 0; l < int(tile->lods.size()); ++l)
+      for (Brick& b : tile->lods[l].bricks) b.coord += shift_ * spec().tileBricks(l);
+    return tile;
+  }
+
+ private:
+  const TileStore& base_;
+  glm::ivec3 shift_;
+};
+
+TEST(StackTraceCpu, HundredKilometresFromTheOriginRendersIdentically) {
+  StreamedBunny b = streamBunny();
+  const PartitionSpec& spec = b.store->spec();
+  const int k = int(std::ceil(100000.0 / spec.tileSizeMeters()));
+  glm::ivec3 shift(k, 0, -k);
+  ShiftedStore far(*b.store, shift);
+  TileLoader farLoader(far);
+  StreamingOptions so;
+  so.cascades = 3;
+  CascadeStack farStack(far, farLoader, so);
+  glm::dvec3 farCamera = b.camera + glm::dvec3(shift) * spec.tileSizeMeters();
+  ASSERT_GT(glm::length(farCamera), 100000.0 * 1.4);
+  for (int i = 0; i < 100 && !farStack.settled(); ++i) {
+    farStack.update(farCamera);
+    farLoader.waitIdle();
+  }
+  ASSERT_TRUE(farStack.settled());
+  CascadeStackImage nearImg = b.stack->stackImage(), farImg = farStack.stackImage();
+  Camera nearCam{b.camera, glm::dvec3(0.0, 0.1, 0.0), glm::dvec3(0, 1, 0), 50.0};
+  Camera farCam{farCamera, nearCam.target + glm::dvec3(shift) * spec.tileSizeMeters(),
+                glm::dvec3(0, 1, 0), 50.0};
+  auto nearRays = primaryRaysFrom(nearCam, 96, 64, nearImg.toStack(nearCam.position));
+  auto farRays = primaryRaysFrom(farCam, 96, 64, farImg.toStack(farCam.position));
+  auto nearHits = traceStackCpu(nearImg, nearRays, TraceSettings{});
+  auto farHits = traceStackCpu(farImg, farRays, TraceSettings{});
+  int hits = 0;
+  for (size_t i = 0; i < nearHits.size(); ++i) {
+    ASSERT_EQ(nearHits[i].flags, farHits[i].flags) << i;
+    ASSERT_EQ(nearHits[i].normalT, farHits[i].normalT) << i;
+    ASSERT_EQ(nearHits[i].albedo, farHits[i].albedo) << i;
+    hits += nearHits[i].flags & gpu_shared::kHitFlagHit;
+  }
+  EXPECT_GT(hits, 1000);
 }
 
 }  // namespace
