@@ -109,7 +109,7 @@ StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld) {
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& a, const Candidate& b) { return a.priority < b.priority; });
 
-  std::set<glm::ivec3, IVec3Less> wantedTiles;
+  std::set<TileKey, TileKeyLess> wantedTiles;
   for (const Candidate& cand : candidates) {
     Cascade& cascade = cascades_[cand.cascade];
     glm::ivec3 brick = cascade.bricks[cand.page];
@@ -125,14 +125,15 @@ StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld) {
       settle(0u);
       continue;
     }
+    const TileKey key{tileCoord, cand.cascade};  // cascade c reads LOD c
     if (stats.bytesUploaded + kBrickBytes > options_.uploadBytesPerFrame) {
-      wantedTiles.insert(tileCoord);
+      wantedTiles.insert(key);
       continue;  // over this frame's upload budget: stays missing, filled next frame
     }
-    std::shared_ptr<const Tile> tile = loader_.acquire(tileCoord, cand.priority);
+    std::shared_ptr<const Tile> tile = loader_.acquire(key, cand.priority);
     if (!tile) {
-      wantedTiles.insert(tileCoord);
-      if (loader_.failed(tileCoord)) ++stats.failedPages;
+      wantedTiles.insert(key);
+      if (loader_.failed(key)) ++stats.failedPages;
       continue;
     }
     const TileLod& lod = tile->lods[cand.cascade];
@@ -162,7 +163,7 @@ StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld) {
       settle(k == 0 ? 0u : std::uint32_t(k - 1) * layout::kBrickCells);
     }
   }
-  loader_.retainOnly([&](glm::ivec3 t) { return wantedTiles.count(t) != 0; });
+  loader_.retainOnly([&](const TileKey& k) { return wantedTiles.count(k) != 0; });
 
   for (int c = 0; c < cascadeCount(); ++c) {
     auto& cs = stats.cascades[c];

@@ -7,10 +7,10 @@ PackTileStore::PackTileStore(std::filesystem::path dir)
   for (const TileEntry& e : manifest_.tiles) entries_[e.coord] = &e;
 }
 
-std::shared_ptr<const Tile> PackTileStore::load(glm::ivec3 tile) const {
+std::shared_ptr<const Tile> PackTileStore::load(glm::ivec3 tile, int lod) const {
   auto it = entries_.find(tile);
   if (it == entries_.end()) return nullptr;
-  return std::make_shared<const Tile>(readTile(dir_, *it->second, manifest_.spec.lodCount));
+  return std::make_shared<const Tile>(readTileLod(dir_, *it->second, manifest_.spec, lod));
 }
 
 std::size_t PackTileStore::tileBytes(glm::ivec3 tile) const {

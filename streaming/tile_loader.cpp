@@ -27,7 +27,7 @@ TileLoader::~TileLoader() {
   for (auto& w : workers_) w.join();
 }
 
-std::shared_ptr<const Tile> TileLoader::acquire(glm::ivec3 tile, double priority) {
+std::shared_ptr<const Tile> TileLoader::acquire(TileKey tile, double priority) {
   std::lock_guard lock(mutex_);
   if (auto it = cache_.find(tile); it != cache_.end()) {
     lru_.splice(lru_.begin(), lru_, it->second.lruPosition);
@@ -45,17 +45,17 @@ std::shared_ptr<const Tile> TileLoader::acquire(glm::ivec3 tile, double priority
   return nullptr;
 }
 
-bool TileLoader::failed(glm::ivec3 tile) const {
+bool TileLoader::failed(TileKey tile) const {
   std::lock_guard lock(mutex_);
   return failed_.count(tile) != 0;
 }
 
-std::set<glm::ivec3, IVec3Less> TileLoader::failedTiles() const {
+std::set<TileKey, TileKeyLess> TileLoader::failedTiles() const {
   std::lock_guard lock(mutex_);
   return failed_;
 }
 
-void TileLoader::retainOnly(const std::function<bool(glm::ivec3)>& wanted) {
+void TileLoader::retainOnly(const std::function<bool(const TileKey&)>& wanted) {
   std::lock_guard lock(mutex_);
   for (auto it = queued_.begin(); it != queued_.end();) {
     if (!wanted(it->first)) {
@@ -83,7 +83,7 @@ void TileLoader::waitIdle() {
   idle_.wait(lock, [&] { return queued_.empty() && inFlight_.empty(); });
 }
 
-void TileLoader::insertIntoCache(glm::ivec3 key, std::shared_ptr<const Tile> tile) {
+void TileLoader::insertIntoCache(TileKey key, std::shared_ptr<const Tile> tile) {
   std::size_t bytes = decodedTileBytes(*tile);
   lru_.push_front(key);
   cache_[key] = CacheEntry{std::move(tile), bytes, lru_.begin()};
@@ -91,7 +91,7 @@ void TileLoader::insertIntoCache(glm::ivec3 key, std::shared_ptr<const Tile> til
   // Evict least recently used tiles beyond the budget; holders of a shared_ptr keep theirs alive,
   // so eviction never frees data a caller is still copying from. The newest tile always stays.
   while (cachedBytes_ > options_.cacheBytes && lru_.size() > 1) {
-    glm::ivec3 victim = lru_.back();
+    TileKey victim = lru_.back();
     lru_.pop_back();
     auto it = cache_.find(victim);
     cachedBytes_ -= it->second.bytes;
@@ -121,7 +121,7 @@ void TileLoader::workerLoop() {
         wake_.wait_until(lock, earliest);
       continue;
     }
-    glm::ivec3 key = best->first;
+    TileKey key = best->first;
     Request request = best->second;
     queued_.erase(best);
     inFlight_.insert(key);
@@ -129,11 +129,11 @@ void TileLoader::workerLoop() {
 
     std::shared_ptr<const Tile> tile;
     try {
-      tile = store_.load(key);
+      tile = store_.load(key.coord, key.lod);
     } catch (const std::exception&) {
       tile = nullptr;
     }
-    std::size_t diskBytes = tile ? store_.tileBytes(key) : 0;
+    std::size_t diskBytes = tile ? store_.tileBytes(key.coord) : 0;
 
     lock.lock();
     inFlight_.erase(key);

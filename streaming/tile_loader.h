@@ -43,6 +43,21 @@ struct LoaderStats {
   std::size_t queued = 0;
 };
 
+// What the loader loads and caches: one LOD of one tile.
+struct TileKey {
+  glm::ivec3 coord{0};
+  int lod = 0;
+  bool operator==(const TileKey&) const = default;
+};
+struct TileKeyLess {
+  bool operator()(const TileKey& a, const TileKey& b) const {
+    if (a.lod != b.lod) return a.lod < b.lod;
+    if (a.coord.z != b.coord.z) return a.coord.z < b.coord.z;
+    if (a.coord.y != b.coord.y) return a.coord.y < b.coord.y;
+    return a.coord.x < b.coord.x;
+  }
+};
+
 struct IVec3Less {
   bool operator()(const glm::ivec3& a, const glm::ivec3& b) const {
     if (a.z != b.z) return a.z < b.z;
@@ -60,11 +75,11 @@ class TileLoader {
 
   // Never blocks on I/O: returns the decoded tile if cached (and marks it recently used), else
   // nullptr after making sure a request exists with at most this priority (lower = sooner).
-  std::shared_ptr<const Tile> acquire(glm::ivec3 tile, double priority);
-  bool failed(glm::ivec3 tile) const;
-  std::set<glm::ivec3, IVec3Less> failedTiles() const;
+  std::shared_ptr<const Tile> acquire(TileKey key, double priority);
+  bool failed(TileKey key) const;
+  std::set<TileKey, TileKeyLess> failedTiles() const;
   // Drops queued (not yet started) requests for tiles `wanted` rejects.
-  void retainOnly(const std::function<bool(glm::ivec3)>& wanted);
+  void retainOnly(const std::function<bool(const TileKey&)>& wanted);
   // Counters since construction; latency samples since the previous call.
   LoaderStats takeStats();
   // Blocks until nothing is queued or in flight (tests and benchmarks only).
@@ -81,11 +96,11 @@ class TileLoader {
   struct CacheEntry {
     std::shared_ptr<const Tile> tile;
     std::size_t bytes;
-    std::list<glm::ivec3>::iterator lruPosition;
+    std::list<TileKey>::iterator lruPosition;
   };
 
   void workerLoop();
-  void insertIntoCache(glm::ivec3 key, std::shared_ptr<const Tile> tile);
+  void insertIntoCache(TileKey key, std::shared_ptr<const Tile> tile);
 
   const TileStore& store_;
   LoaderOptions options_;
@@ -93,11 +108,11 @@ class TileLoader {
   std::condition_variable wake_;
   std::condition_variable idle_;
   bool stopping_ = false;
-  std::map<glm::ivec3, Request, IVec3Less> queued_;
-  std::set<glm::ivec3, IVec3Less> inFlight_;
-  std::set<glm::ivec3, IVec3Less> failed_;
-  std::map<glm::ivec3, CacheEntry, IVec3Less> cache_;
-  std::list<glm::ivec3> lru_;  // front = most recently used
+  std::map<TileKey, Request, TileKeyLess> queued_;
+  std::set<TileKey, TileKeyLess> inFlight_;
+  std::set<TileKey, TileKeyLess> failed_;
+  std::map<TileKey, CacheEntry, TileKeyLess> cache_;
+  std::list<TileKey> lru_;  // front = most recently used
   std::size_t cachedBytes_ = 0;
   LoaderStats stats_;
   std::vector<std::thread> workers_;

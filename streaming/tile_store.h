@@ -17,9 +17,10 @@ class TileStore {
   // True when the pack holds this tile (a cheap manifest lookup; thread-safe). Tiles it does not
   // hold have no surface at any LOD.
   virtual bool hasTile(glm::ivec3 tile) const = 0;
-  // Reads, verifies and decodes one tile. Blocking I/O; thread-safe. Throws on failure
-  // (InputError for corrupt data, std::exception for I/O); the loader retries with backoff.
-  virtual std::shared_ptr<const Tile> load(glm::ivec3 tile) const = 0;
+  // Reads, verifies and decodes one LOD of one tile (the returned Tile's lods[lod] is filled;
+  // other LODs may be empty): a cascade needs only its own LOD. Blocking I/O; thread-safe.
+  // Throws on failure (InputError for corrupt data, std::exception for I/O); the loader retries.
+  virtual std::shared_ptr<const Tile> load(glm::ivec3 tile, int lod) const = 0;
   // Bytes the tile occupies on disk (for metrics); 0 if unknown.
   virtual std::size_t tileBytes(glm::ivec3 tile) const = 0;
 };

@@ -78,6 +78,13 @@ Tile readTile(const std::filesystem::path& dir, const TileEntry& entry, const Pa
 // instead of the manifest: for callers that keep only lodCount. Prefer the overload above.
 Tile readTile(const std::filesystem::path& dir, const TileEntry& entry, int lodCount);
 
+// Reads one LOD of a tile for streaming: verifies the size against the manifest, the header and
+// that LOD's section checksum and contents, and decodes only that section (the returned tile's
+// other LODs are empty). The whole-file checksum is left to verifyPack: every byte this uses is
+// covered by the header or the section checksum.
+Tile readTileLod(const std::filesystem::path& dir, const TileEntry& entry,
+                 const PartitionSpec& spec, int lod);
+
 // Checks the manifest and fully reads every tile (in parallel); returns an empty string when all
 // is well, else the first problem in manifest order as one line naming the bad tile, e.g.
 // "tiles/0_0_1.tile: section lod2 checksum mismatch".

@@ -229,10 +229,10 @@ PartitionSpec specOfTile(const std::vector<std::uint8_t>& bytes, int lodCount,
 }
 
 Tile decodeTile(const std::vector<std::uint8_t>& bytes, const PartitionSpec& spec,
-                const std::string& file) {
+                const std::string& file, std::uint32_t lodMask) {
   const TileHeader h = decodeTileHeader(bytes, spec, file);
   for (int l = 0; l < spec.lodCount; ++l)
-    if (checksum64(bytes.data() + h.sections[l].offset, h.sections[l].bytes) !=
+    if ((lodMask >> l & 1u) && checksum64(bytes.data() + h.sections[l].offset, h.sections[l].bytes) !=
         h.sections[l].checksum)
       fail(InputErrorKind::Checksum, file, "section " + lodName(l) + " checksum mismatch");
 
@@ -241,6 +241,7 @@ Tile decodeTile(const std::vector<std::uint8_t>& bytes, const PartitionSpec& spe
   tile.lods.resize(spec.lodCount);
   std::vector<std::uint8_t> raw;
   for (int l = 0; l < spec.lodCount; ++l) {
+    if (!(lodMask >> l & 1u)) continue;
     const TileHeader::Section& s = h.sections[l];
     const std::uint8_t* src = bytes.data() + s.offset;
     const unsigned long long declared = ZSTD_getFrameContentSize(src, s.bytes);

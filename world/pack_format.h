@@ -84,8 +84,10 @@ TileHeader decodeTileHeader(const std::vector<std::uint8_t>& bytes, const Partit
 PartitionSpec specOfTile(const std::vector<std::uint8_t>& bytes, int lodCount,
                          const std::string& file);
 // Full decode and verification (header, section checksums, zstd sizes, slots, emptyDistance).
+// With a lodMask, only the LODs whose bit is set are verified and decoded (the others stay
+// empty): streaming decodes the one LOD a cascade needs.
 Tile decodeTile(const std::vector<std::uint8_t>& bytes, const PartitionSpec& spec,
-                const std::string& file);
+                const std::string& file, std::uint32_t lodMask = ~0u);
 
 // manifest.json text: fixed key order, 2-space indent, trailing newline, no timestamps.
 std::string manifestText(const PackManifest& manifest);

@@ -219,6 +219,25 @@ Tile readTile(const fs::path& dir, const TileEntry& entry, const PartitionSpec& 
   return tile;
 }
 
+Tile readTileLod(const fs::path& dir, const TileEntry& entry, const PartitionSpec& spec, int lod) {
+  if (lod < 0 || lod >= spec.lodCount) throw std::invalid_argument("readTileLod: lod out of range");
+  const fs::path path = dir / entry.file;
+  const std::string file = path.string();
+  std::vector<std::uint8_t> bytes = readWholeFile(path);
+  if (bytes.size() != entry.bytes)
+    throw InputError(bytes.size() < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed,
+                     file, std::to_string(bytes.size()) + " bytes, manifest declares " +
+                               std::to_string(entry.bytes));
+  Tile tile = pack_format::decodeTile(bytes, spec, file, 1u << lod);
+  if (tile.coord != entry.coord)
+    throw InputError(InputErrorKind::Malformed, file, "header coordinate differs from its name");
+  if (entry.bricksPerLod.size() != std::size_t(spec.lodCount) ||
+      tile.lods[lod].bricks.size() != entry.bricksPerLod[lod])
+    throw InputError(InputErrorKind::Malformed, file,
+                     "lod" + std::to_string(lod) + " brick count differs from the manifest");
+  return tile;
+}
+
 Tile readTile(const fs::path& dir, const TileEntry& entry, int lodCount) {
   if (lodCount < 1 || lodCount > PartitionSpec::kMaxLods)
     throw std::invalid_argument("readTile: lodCount out of range");

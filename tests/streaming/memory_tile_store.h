@@ -29,7 +29,7 @@ class MemoryTileStore : public TileStore {
     return hash(u) % 10 < 6;
   }
   std::size_t tileBytes(glm::ivec3) const override { return 4096; }
-  std::shared_ptr<const Tile> load(glm::ivec3 t) const override {
+  std::shared_ptr<const Tile> load(glm::ivec3 t, int /*lod: all are generated*/) const override {
     ++loads;
     gate();
     if (failing.count({t.x, t.y, t.z})) throw std::runtime_error("injected I/O error");
