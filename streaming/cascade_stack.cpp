@@ -80,7 +80,8 @@ void CascadeStack::scroll(int c, glm::ivec3 newOrigin, CascadeFrameStats& stats)
   cascade.placed = true;
 }
 
-StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld) {
+StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld,
+                                      const glm::dvec3& viewDirection) {
   const PartitionSpec& spec = store_.spec();
   StreamFrameStats stats;
   stats.cascades.resize(cascades_.size());
@@ -102,8 +103,12 @@ StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld) {
     for (std::uint32_t page = 0; page < layout::kCascadePageCount; ++page) {
       if (!cascade.pending[page]) continue;
       glm::dvec3 centre = (glm::dvec3(cascade.bricks[page]) * 8.0 + 4.0) * v + spec.origin;
-      // Finer cascades first, then nearer pages (issue 4 "priorities").
-      candidates.push_back({c * 1e9 + glm::length(centre - cameraWorld), c, page});
+      // Finer cascades first, then nearer pages, pages in front of the camera before those behind
+      // it (issue 4 "priorities"): a page behind counts as up to twice as far.
+      glm::dvec3 toPage = centre - cameraWorld;
+      double distance = glm::length(toPage);
+      double behind = distance > 0 ? 0.5 * (1.0 - glm::dot(toPage / distance, viewDirection)) : 0;
+      candidates.push_back({c * 1e9 + distance * (1.0 + behind), c, page});
     }
   }
   std::sort(candidates.begin(), candidates.end(),

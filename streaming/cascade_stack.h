@@ -67,7 +67,10 @@ class CascadeStack {
  public:
   CascadeStack(const TileStore& store, TileLoader& loader, StreamingOptions options = {});
 
-  StreamFrameStats update(const glm::dvec3& cameraWorld);
+  // viewDirection (unit, optional): pages in front of the camera are filled and requested before
+  // pages behind it at the same distance.
+  StreamFrameStats update(const glm::dvec3& cameraWorld,
+                          const glm::dvec3& viewDirection = glm::dvec3(0.0));
 
   int cascadeCount() const { return int(cascades_.size()); }
   const StreamingOptions& options() const { return options_; }

@@ -145,7 +145,7 @@ int runFly(int argc, char** argv) {
     m.seconds = seconds;
     m.camera = cam.position;
     auto t0 = std::chrono::steady_clock::now();
-    m.stream = stack.update(cam.position);
+    m.stream = stack.update(cam.position, glm::normalize(cam.target - cam.position));
     m.updateMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::vector<std::uint32_t> dirty = stack.takeDirtySlots();

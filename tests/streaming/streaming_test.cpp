@@ -213,3 +213,33 @@ TEST(Streaming, FarFromTheOriginStreamsExactlyLikeNearIt) {
 
 }  // namespace
 }  // namespace sdfstream
+
+namespace sdfstream {
+namespace {
+
+TEST(Streaming, PagesInFrontOfTheCameraAreFilledFirst) {
+  test::MemoryTileStore store(testSpec(), 8);
+  TileLoader loader(store);
+  // Warm the cache so only the upload budget limits the first frame.
+  {
+    CascadeStack warm(store, loader, testOptions());
+    settle(warm, loader, glm::dvec3(0.0));
+  }
+  StreamingOptions o = testOptions();
+  o.uploadBytesPerFrame = 40 * 4 * (layout::kBrickDistanceWords + 2 * layout::kBrickMaterialCount);
+  CascadeStack stack(store, loader, o);
+  stack.update(glm::dvec3(0.0), glm::dvec3(1.0, 0.0, 0.0));
+  // Among cascade 0's resident pages, those in front (+x) must outnumber those behind.
+  int front = 0, back = 0;
+  CascadeImage img = stack.cascadeImage(0);
+  for (int z = 0; z < 16; ++z)
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x)
+        if (img.pageTable[img.pageIndex({x, y, z})] & layout::kPageResidentBit)
+          (x >= 8 ? front : back)++;
+  EXPECT_GT(front, 0);
+  EXPECT_GT(front, 2 * back) << "front " << front << " back " << back;
+}
+
+}  // namespace
+}  // namespace sdfstream
