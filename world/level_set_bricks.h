@@ -5,6 +5,8 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <openvdb/openvdb.h>
 
@@ -52,6 +54,16 @@ glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
 // The float level set vdbToWorld would import from a file (grid choice, errors and untrusted-input
 // handling of vdb_import.h). Defined in vdb_import.cpp.
 openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& file);
+// Every float level set of a file, in file order: grids labelled GRID_LEVEL_SET and unlabelled
+// float grids that look like level sets (vdb_import.h's rule); labelled[i] says which. skipped
+// names every other grid as "'name' (kind)", e.g. "'density' (fog volume)". Same errors as
+// readLevelSetFile (NotLevelSet when grids is empty).
+struct LevelSetFile {
+  std::vector<openvdb::FloatGrid::Ptr> grids;
+  std::vector<bool> labelled;
+  std::vector<std::string> skipped;
+};
+LevelSetFile readLevelSetGrids(const std::filesystem::path& file);
 // Linear, axis-aligned, uniform positive scale (+ translation).
 bool isUniformAxisAligned(const openvdb::math::Transform& xf);
 

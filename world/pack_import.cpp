@@ -39,7 +39,13 @@ std::vector<std::unique_ptr<SdfSource>> sourcesForInput(const std::filesystem::p
                  [](unsigned char c) { return char(std::tolower(c)); });
   std::vector<std::unique_ptr<SdfSource>> sources;
   if (ext == ".vdb") {
-    sources.push_back(makeVdbSource(input, voxelSize));
+    std::vector<std::string> skipped;
+    sources = makeVdbSources(input, voxelSize, &skipped);
+    if (!skipped.empty()) {  // one line naming what is not imported
+      std::string line = input.filename().string() + ": skipping ";
+      for (std::size_t i = 0; i < skipped.size(); ++i) line += (i ? ", " : "") + skipped[i];
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
   } else if (ext == ".gltf" || ext == ".glb" || ext == ".obj") {
     sources.push_back(makeMeshSource(ext == ".obj" ? loadObj(input) : loadGltf(input)));
   } else if (ext == ".json") {

@@ -27,9 +27,12 @@ struct PackImportOptions {
 };
 
 // The input file's sources by extension (case-insensitive): .gltf/.glb/.obj → one mesh source
-// (mesh_source.h); .vdb → one vdb source (vdb_source.h, voxelSize as its override); .json →
-// the layout's sources (layout_sources.h: terrain, one mesh per placement, boxes). Errors: those of the loaders, InputError(Usage)
-// for an unknown extension.
+// (mesh_source.h); .vdb → one vdb source per float level set of the file, their union being the
+// world (makeVdbSources in vdb_source.h, voxelSize as their override; v0 and the lattice from the
+// first grid unless overridden); grids that are not float level sets are skipped with one line on
+// stderr naming the file and them; .json → the layout's sources (layout_sources.h: terrain, one
+// mesh per placement, boxes). Errors: those of the loaders, InputError(Usage) for an unknown
+// extension.
 std::vector<std::unique_ptr<SdfSource>> sourcesForInput(const std::filesystem::path& input,
                                                         double voxelSize,
                                                         const ImportLimits& limits);

@@ -56,14 +56,27 @@ std::string describe(const openvdb::GridBase& grid) {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& path) {
+namespace {
+
+// What a skipped grid is, for the one-line note of readLevelSetGrids: "fog volume", "point data".
+std::string kindOf(const openvdb::GridBase& grid) {
+  if (grid.valueType().rfind("ptdataidx", 0) == 0) return "point data";
+  if (grid.getGridClass() != openvdb::GRID_UNKNOWN)
+    return openvdb::GridBase::gridClassToString(grid.getGridClass());
+  if (grid.isType<openvdb::FloatGrid>()) return "float grid, not a level set";
+  return grid.valueType() + " grid";
+}
+
+}  // namespace
+
+LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(InputErrorKind::Io, file, "cannot open: no such file");
   initializeOpenVdb();
 
-  openvdb::FloatGrid::Ptr grid;
+  LevelSetFile out;
   try {
     // io::Stream over our own ifstream rather than io::File: OpenVDB's readers do not all check
     // for end of file, so a truncated file can otherwise load silently as a partial grid. After
@@ -76,19 +89,17 @@ openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& path) {
       throw InputError(InputErrorKind::Truncated, file, "file ends before its last grid");
     std::string holds;
     for (const openvdb::GridBase::Ptr& g : *grids) {
-      if (g->isType<openvdb::FloatGrid>() && g->getGridClass() == openvdb::GRID_LEVEL_SET) {
-        grid = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
-        break;
+      auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
+      const bool labelled = f && f->getGridClass() == openvdb::GRID_LEVEL_SET;
+      if (labelled || (f && f->getGridClass() == openvdb::GRID_UNKNOWN && looksLikeLevelSet(*f))) {
+        out.grids.push_back(f);
+        out.labelled.push_back(labelled);
+        continue;
       }
       holds += (holds.empty() ? "" : ", ") + describe(*g);
+      out.skipped.push_back("'" + g->getName() + "' (" + kindOf(*g) + ")");
     }
-    for (std::size_t i = 0; !grid && i < grids->size(); ++i) {
-      auto candidate = openvdb::gridPtrCast<openvdb::FloatGrid>((*grids)[i]);
-      if (candidate && candidate->getGridClass() == openvdb::GRID_UNKNOWN &&
-          looksLikeLevelSet(*candidate))
-        grid = candidate;
-    }
-    if (!grid)
+    if (out.grids.empty())
       throw InputError(
           InputErrorKind::NotLevelSet, file,
           "holds " + (holds.empty() ? std::string("no grids") : holds) + ", no float level set");
@@ -98,8 +109,15 @@ openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& path) {
     throw InputError(InputErrorKind::Truncated, file,
                      std::string("truncated or corrupt .vdb: ") + e.what());
   }
+  return out;
+}
 
-  return grid;
+openvdb::FloatGrid::Ptr readLevelSetFile(const std::filesystem::path& path) {
+  // The first labelled level set; failing that, the first unlabelled one (vdb_import.h).
+  LevelSetFile f = readLevelSetGrids(path);
+  for (std::size_t i = 0; i < f.grids.size(); ++i)
+    if (f.labelled[i]) return f.grids[i];
+  return f.grids.front();
 }
 
 World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,

@@ -1,6 +1,7 @@
 #include "world/vdb_source.h"
 
 #include <cmath>
+#include <optional>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/GridTransformer.h>
@@ -14,10 +15,11 @@ namespace {
 
 class VdbSource final : public SdfSource {
  public:
-  VdbSource(const std::filesystem::path& path, double voxelOverride) : file_(path.string()) {
+  VdbSource(const std::string& file, openvdb::FloatGrid::Ptr grid, double voxelOverride,
+            bool namesMaterial)
+      : file_(file), grid_(std::move(grid)), namesMaterial_(namesMaterial) {
     if (!(voxelOverride >= 0.0) || !std::isfinite(voxelOverride))
       throw InputError(InputErrorKind::OutOfRange, file_, "voxel size must be positive (or 0)");
-    grid_ = readLevelSetFile(path);
     const double own = grid_->voxelSize()[0];
     if (!(own > 0.0) || !std::isfinite(own))
       throw InputError(InputErrorKind::Truncated, file_, "corrupt transform: bad voxel size");
@@ -43,7 +45,10 @@ class VdbSource final : public SdfSource {
   glm::dvec3 boundsMax() const override { return hi_; }
   double nativeVoxelSize() const override { return voxel_; }
   glm::dvec3 nativeOrigin() const override { return origin_; }
-  std::vector<std::string> materialNames() const override { return {"vdb grey"}; }
+  // One name for the whole file: the grids share the material.
+  std::vector<std::string> materialNames() const override {
+    return namesMaterial_ ? std::vector<std::string>{"vdb grey"} : std::vector<std::string>{};
+  }
 
   double estimateBytes(const PartitionSpec& spec) const override {
     // A surface's band scales with the square of the resolution change.
@@ -117,6 +122,7 @@ class VdbSource final : public SdfSource {
   };
   std::string file_;
   openvdb::FloatGrid::Ptr grid_;
+  bool namesMaterial_ = true;
   double voxel_ = 0;
   glm::dvec3 origin_{0.0}, lo_{0.0}, hi_{0.0};
   std::uint32_t grey_ = 0;
@@ -125,8 +131,29 @@ class VdbSource final : public SdfSource {
 
 }  // namespace
 
+std::vector<std::unique_ptr<SdfSource>> makeVdbSources(const std::filesystem::path& path,
+                                                       double voxelOverride,
+                                                       std::vector<std::string>* skipped) {
+  LevelSetFile f = readLevelSetGrids(path);
+  std::vector<std::unique_ptr<SdfSource>> sources;
+  std::optional<InputError> firstEmpty;
+  for (std::size_t i = 0; i < f.grids.size(); ++i) {
+    try {
+      sources.push_back(std::make_unique<VdbSource>(path.string(), f.grids[i], voxelOverride,
+                                                    sources.empty()));
+    } catch (const InputError& e) {
+      if (e.kind() != InputErrorKind::Empty) throw;
+      if (!firstEmpty) firstEmpty = e;
+      f.skipped.push_back("'" + f.grids[i]->getName() + "' (empty level set)");
+    }
+  }
+  if (sources.empty()) throw *firstEmpty;
+  if (skipped) *skipped = std::move(f.skipped);
+  return sources;
+}
+
 std::unique_ptr<SdfSource> makeVdbSource(const std::filesystem::path& path, double voxelOverride) {
-  return std::make_unique<VdbSource>(path, voxelOverride);
+  return std::make_unique<VdbSource>(path.string(), readLevelSetFile(path), voxelOverride, true);
 }
 
 }  // namespace sdfstream

@@ -3,6 +3,8 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "world/sdf_source.h"
 
@@ -19,5 +21,17 @@ namespace sdfstream {
 // distances, band kNarrowBand LOD-l voxels). Materials: grey albedo 0.8 (linear), no emission.
 // Throws InputError(Empty) when the grid has no active voxel.
 std::unique_ptr<SdfSource> makeVdbSource(const std::filesystem::path& path, double voxelOverride);
+
+// One source per float level set of the file, in file order (readLevelSetGrids in
+// level_set_bricks.h: labelled level sets and unlabelled look-alikes); the world is their union.
+// Each behaves as makeVdbSource's grid: partitionFor takes v0 and the lattice from the first, and
+// every grid whose transform is not that lattice is resampled onto it per LOD. Only the first
+// names the material ("vdb grey"), so the manifest lists it once. Grids that are not float level
+// sets, and level sets with no active voxel when others have some, are left out and described in
+// *skipped ("'density' (fog volume)"). Errors: readLevelSetGrids's (NotLevelSet when the file has
+// no float level set), Empty when every level set is empty, OutOfRange for a bad override.
+std::vector<std::unique_ptr<SdfSource>> makeVdbSources(const std::filesystem::path& path,
+                                                       double voxelOverride,
+                                                       std::vector<std::string>* skipped);
 
 }  // namespace sdfstream

@@ -11,6 +11,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <tbb/parallel_for.h>
 
@@ -467,6 +468,82 @@ TEST(PackImport, NonLevelSetsRefused) {
       std::printf("[ refuse    ] %s\n", e.what());
     }
     EXPECT_TRUE(fs::is_empty(dir)) << "left files behind";
+  }
+}
+
+// Several level sets in one .vdb (different voxel sizes and lattices) import as their union;
+// other grids are skipped with one stderr line; a file without a level set is still refused.
+TEST(PackImport, VdbSeveralLevelSetsUnion) {
+  openvdb::initialize();
+  const fs::path dir = test::scratchDir("partition-multi-vdb");
+  // A: voxel 0.1, lattice at 0 (sets v0 and the lattice). B: voxel 0.07, lattice shifted by a
+  // fraction of a voxel, wider band so its rebuilt band covers ours. Bands overlap in the gap.
+  auto a = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(1.0f, {0, 0, 0}, 0.1f, 3.0f);
+  a->setName("a");
+  const openvdb::Vec3d shift(0.023, -0.011, 0.031);
+  auto b = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(
+      0.8f, openvdb::Vec3f(openvdb::Vec3d(2.0, 0.1, 0.0) - shift), 0.07f, 6.0f);
+  b->transform().postTranslate(shift);
+  b->setName("b");
+  auto fog = openvdb::FloatGrid::create(0.0f);
+  fog->setName("density");
+  fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+  fog->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
+  openvdb::GridPtrVec grids{a, fog, b};
+  openvdb::io::File((dir / "two.vdb").string()).write(grids);
+  openvdb::GridPtrVec fogOnly{fog};
+  openvdb::io::File((dir / "fog.vdb").string()).write(fogOnly);
+
+  testing::internal::CaptureStderr();
+  Sources sources = sourcesForInput(dir / "two.vdb", 0, {});
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(err, "two.vdb: skipping 'density' (fog volume)\n");
+  ASSERT_EQ(sources.size(), 2u);
+  PackImportOptions options;
+  options.lodCount = 2;
+  options.tileVoxels = 32;
+  const PartitionSpec spec = partitionFor(sources, options, "two.vdb");
+  EXPECT_EQ(spec.voxelSize, a->voxelSize()[0]);
+  const World world = lodWorld(buildAll(sources, spec), spec, 0);
+  BrickSampler sampler(world);
+
+  // At the active voxels of each grid: min of A and B (the other trilinear) in LOD-0 voxels.
+  const openvdb::FloatGrid::ConstAccessor accA = a->getConstAccessor(),
+                                         accB = b->getConstAccessor();  // samplers keep references
+  openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> sa(
+      accA, a->transform()), sb(accB, b->transform());
+  const double v0 = spec.voxelSize;
+  for (const openvdb::FloatGrid* g : {a.get(), b.get()}) {
+    double worst = 0;
+    std::size_t checked = 0;
+    for (auto it = g->cbeginValueOn(); it; ++it) {
+      if (!it.isVoxelValue()) continue;
+      const openvdb::Vec3d p = g->indexToWorld(it.getCoord());
+      const double da = sa.wsSample(p) / v0, db = sb.wsSample(p) / v0;
+      const double expected = std::min(da, db);
+      if (!(std::abs(expected) < layout::kNarrowBand - 0.5)) continue;
+      // Off A's lattice (B's voxels) the pack is trilinear over min(A, B) at the lattice, which
+      // dips below min(A, B) where the two cross inside the cell (the union's crease): skip
+      // points where a - b could change sign within the cell (each changes by ≤ √3 voxels).
+      if (g == b.get() && std::abs(da - db) < 2.0 * std::sqrt(3.0)) continue;
+      const std::optional<float> d = sampler.distanceVoxels({p.x(), p.y(), p.z()});
+      ASSERT_TRUE(d) << "no brick at " << p;
+      worst = std::max(worst, std::abs(*d - expected));
+      ++checked;
+    }
+    std::printf("[ multi-vdb ] grid %s: %zu active voxels, max |delta| %.4f voxel\n",
+                g->getName().c_str(), checked, worst);
+    EXPECT_GT(checked, 1000u);
+    // A's voxels lie on the pack's lattice (only B's rebuild differs); B's are trilinear too.
+    EXPECT_LE(worst, g == a.get() ? 0.05 : 0.15) << g->getName();
+  }
+
+  try {
+    sourcesForInput(dir / "fog.vdb", 0, {});
+    ADD_FAILURE() << "fog-only file imported";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.kind(), InputErrorKind::NotLevelSet) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fog volume 'density'"), std::string::npos) << e.what();
   }
 }
 
