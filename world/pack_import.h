@@ -51,7 +51,7 @@ std::vector<glm::ivec3> candidateTiles(const std::vector<std::unique_ptr<SdfSour
 
 // Builds the pack at `out` (atomic: PackWriter). Steps: refuse with InputError(TooLarge) when the
 // sum of the sources' estimateBytes exceeds options.limits.maxBytes (before any work); prepareLod
-// for every LOD of every source (all LODs stay resident: buildTile filters each tile's LOD chain
+// for every LOD of every source, all (source, LOD) pairs in parallel (all LODs stay resident: buildTile filters each tile's LOD chain
 // in one go); build this shard's tiles in parallel (TBB), each added to the writer as it finishes;
 // releaseLod; commit with the union of the sources' bounds (the same in every shard) and
 // sourceName. Deterministic: same sources, spec and shard → byte-identical pack. Throws

@@ -84,6 +84,16 @@ std::vector<SourceRange> sourceRanges(const std::vector<const SdfSource*>& sourc
   return out;
 }
 
+bool inRange(const SourceRange& r, glm::ivec3 b) {
+  return !glm::any(glm::lessThan(b, r.lo)) && !glm::any(glm::greaterThan(b, r.hi));
+}
+
+bool inAnyRange(const std::vector<SourceRange>& ranges, glm::ivec3 b) {
+  for (const SourceRange& r : ranges)
+    if (inRange(r, b)) return true;
+  return false;
+}
+
 // Samples the union of the sources for one brick (materials when wantMaterials).
 bool sampleUnion(const std::vector<SourceRange>& ranges, int lod, glm::ivec3 b, bool wantMaterials,
                  BrickSamples& out) {
@@ -93,7 +103,7 @@ bool sampleUnion(const std::vector<SourceRange>& ranges, int lod, glm::ivec3 b, 
   out.materialDistance.fill(wantMaterials ? kInf : 0.0f);
   bool any = false;
   for (const SourceRange& r : ranges) {
-    if (glm::any(glm::lessThan(b, r.lo)) || glm::any(glm::greaterThan(b, r.hi))) continue;
+    if (!inRange(r, b)) continue;
     r.source->sampleBrick(lod, b, out);
     any = true;
   }
@@ -115,27 +125,58 @@ void store(Region& region, int i, const Samples& s) {
   }
 }
 
-// The conservative filter for coarse brick b (see tile_builder.h) into s; fine = LOD l-1.
-void filterBrick(const Region& fine, glm::ivec3 b, Samples& s) {
-  // Fine bricks under the window of b's samples: fine samples 16b-1 .. 16b+17.
-  bool anything = false;
-  for (int z = -1; z <= 2 && !anything; ++z)
-    for (int y = -1; y <= 2 && !anything; ++y)
-      for (int x = -1; x <= 2 && !anything; ++x) {
+// Whether any fine brick under the window of coarse brick b's samples (fine samples 16b-1 ..
+// 16b+17) holds something below the band: otherwise filterBrick changes nothing.
+bool fineAnything(const Region& fine, glm::ivec3 b) {
+  for (int z = -1; z <= 2; ++z)
+    for (int y = -1; y <= 2; ++y)
+      for (int x = -1; x <= 2; ++x) {
         const int i = fine.index(2 * b + glm::ivec3(x, y, z));
         if (i < 0) continue;
-        if (fine.slot[std::size_t(i)] >= 0 || fine.uniform[std::size_t(i)] < kBand) anything = true;
+        if (fine.slot[std::size_t(i)] >= 0 || fine.uniform[std::size_t(i)] < kBand) return true;
       }
-  if (!anything) return;
+  return false;
+}
+
+// The conservative filter for coarse brick b (see tile_builder.h) into s; fine = LOD l-1.
+void filterBrick(const Region& fine, glm::ivec3 b, Samples& s) {
+  if (!fineAnything(fine, b)) return;
   constexpr int kW = 2 * kCells + 3;  // 19 fine samples per axis
   static thread_local std::vector<float> buf(kW * kW * kW);
   const glm::ivec3 base = 2 * kCells * b - 1;
+  // Region::sample, separated per axis: which region brick (-1: outside) and which local sample
+  // each of the 19 positions reads.
+  int brickAt[3][kW], localAt[3][kW];
+  for (int a = 0; a < 3; ++a)
+    for (int x = 0; x < kW; ++x) {
+      const int sa = base[a] + x;
+      int bb = floorDiv(sa, kCells), local = sa - bb * kCells;
+      if (bb == fine.lo[a] + fine.size && local == 0) bb -= 1, local = kCells;
+      const int r = bb - fine.lo[a];
+      brickAt[a][x] = r < 0 || r >= fine.size ? -1 : r;
+      localAt[a][x] = local;
+    }
+  const int n = fine.size;
   for (int z = 0; z < kW; ++z)
-    for (int y = 0; y < kW; ++y)
-      for (int x = 0; x < kW; ++x) {
-        float f = fine.sample(base + glm::ivec3(x, y, z));
-        buf[std::size_t(x + kW * (y + kW * z))] = f < kBand ? f : kInf;  // saturated: no part
+    for (int y = 0; y < kW; ++y) {
+      float* row = &buf[std::size_t(kW * (y + kW * z))];
+      if (brickAt[2][z] < 0 || brickAt[1][y] < 0) {
+        std::fill(row, row + kW, kInf);
+        continue;
       }
+      const int rowBase = n * (brickAt[1][y] + n * brickAt[2][z]);
+      const int localBase = brickSampleIndex(0, localAt[1][y], localAt[2][z]);
+      for (int x = 0; x < kW; ++x) {
+        float f = kInf;
+        if (brickAt[0][x] >= 0) {
+          const std::size_t i = std::size_t(rowBase + brickAt[0][x]);
+          const int sl = fine.slot[i];
+          f = sl < 0 ? fine.uniform[i]
+                     : fine.values[std::size_t(sl)][std::size_t(localBase + localAt[0][x])];
+        }
+        row[x] = f < kBand ? f : kInf;  // saturated: no part
+      }
+    }
   // The centre and its 6 face neighbours (reach one fine voxel = half a coarse voxel).
   for (int k = 0; k < kSamples; ++k)
     for (int j = 0; j < kSamples; ++j)
@@ -209,6 +250,9 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
       const glm::ivec3 b = region.brickAt(i);
       const int own = ownIndex(b);
       const bool wantMaterials = lod == 0 && own >= 0;
+      // No source near and nothing finer below the band: uniform +band, as the slot already is
+      // (what sampling, filtering and store would give, without touching 729 samples).
+      if (!inAnyRange(ranges, b) && (lod == 0 || !fineAnything(fine, b))) continue;
       sampleUnion(ranges, lod, b, wantMaterials, samples);
       Samples s = samples.distance;
       if (lod > 0) filterBrick(fine, b, s);

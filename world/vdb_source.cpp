@@ -39,6 +39,9 @@ class VdbSource final : public SdfSource {
       hi_ = glm::max(hi_, glm::dvec3(w.x(), w.y(), w.z()));
     }
     grey_ = packAlbedo(glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+    // Unlabelled fallback grids too, for resampleToMatch's level-set rebuild; here rather than
+    // in prepareLod, which may run for several LODs at once.
+    grid_->setGridClass(openvdb::GRID_LEVEL_SET);
   }
 
   glm::dvec3 boundsMin() const override { return lo_; }
@@ -74,7 +77,6 @@ class VdbSource final : public SdfSource {
     xf->postTranslate(openvdb::Vec3d(spec.origin.x, spec.origin.y, spec.origin.z));
     out->setTransform(xf);
     out->setGridClass(openvdb::GRID_LEVEL_SET);
-    grid_->setGridClass(openvdb::GRID_LEVEL_SET);  // unlabelled fallback grids too
     try {
       openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*grid_, *out);
     } catch (const std::exception& e) {
