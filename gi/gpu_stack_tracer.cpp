@@ -10,6 +10,7 @@ constexpr std::size_t kMatBytes = layout::kBrickMaterialCount * 4;
 
 GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack)
     : context_(context),
+      batch_(context),
       pipeline_(context, gpu::ShaderId::trace_stack,
                 gpu::PipelineDesc{7, sizeof(gpu_shared::TraceStackPushConstants), glm::uvec3(64, 1, 1)}),
       cascadeCount_(std::uint32_t(stack.cascadeCount())),
@@ -55,23 +56,17 @@ std::size_t GpuStackTracer::sync(const CascadeStack& stack, std::span<const std:
 
 std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shared::TraceRay> rays,
                                                         const TraceSettings& settings) {
-  std::vector<gpu_shared::TraceHit> hits(rays.size());
-  if (rays.empty()) return hits;
-  const std::size_t rayBytes = rays.size_bytes();
-  const std::size_t hitBytes = hits.size() * sizeof(gpu_shared::TraceHit);
-  if (rays_.size() < rayBytes) rays_ = gpu::Buffer(context_, rayBytes, gpu::BufferKind::Upload);
-  if (hits_.size() < hitBytes) hits_ = gpu::Buffer(context_, hitBytes, gpu::BufferKind::Readback);
-  rays_.upload(rays.data(), rayBytes);
+  if (rays.empty()) return {};
+  batch_.stage(rays);
   gpu_shared::TraceStackPushConstants pc{std::uint32_t(rays.size()), settings.maxSteps,
                                          settings.hitEpsilon, cascadeCount_};
   gpu::CommandBatch batch = context_.beginBatch();
   batch.dispatch("trace_stack", pipeline_,
-                 {&rays_, &hits_, &pageTables_, &distance_, &albedo_, &emission_, &params_}, &pc,
+                 {&batch_.rays(), &batch_.hits(), &pageTables_, &distance_, &albedo_, &emission_, &params_}, &pc,
                  sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch.submitAndWait();
   timings_ = batch.timings();
-  hits_.download(hits.data(), hitBytes);
-  return hits;
+  return batch_.readHits();
 }
 
 double GpuStackTracer::lastMilliseconds(const std::string& pass) const {

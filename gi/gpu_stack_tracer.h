@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gi/cpu_tracer.h"
+#include "gi/ray_batch.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
@@ -31,10 +32,11 @@ class GpuStackTracer {
 
  private:
   gpu::Context& context_;
+  RayBatch batch_;
   gpu::ComputePipeline pipeline_;
   std::uint32_t cascadeCount_;
   gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
-  gpu::Buffer staging_, rays_, hits_;
+  gpu::Buffer staging_;
   std::vector<gpu::PassTiming> timings_;
 };
 

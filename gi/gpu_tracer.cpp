@@ -16,6 +16,7 @@ gpu::Buffer deviceBufferWith(gpu::Context& ctx, const std::vector<T>& data) {
 
 GpuTracer::GpuTracer(gpu::Context& context)
     : context_(context),
+      batch_(context),
       pipeline_(context, gpu::ShaderId::trace_rays,
                 gpu::PipelineDesc{6, sizeof(gpu_shared::TracePushConstants), glm::uvec3(64, 1, 1)}) {}
 
@@ -31,13 +32,8 @@ void GpuTracer::setCascade(const CascadeImage& cascade) {
 std::vector<gpu_shared::TraceHit> GpuTracer::trace(std::span<const gpu_shared::TraceRay> rays,
                                                    const TraceSettings& settings) {
   assert(pageTable_ && "setCascade() before trace()");
-  std::vector<gpu_shared::TraceHit> hits(rays.size());
-  if (rays.empty()) return hits;
-  const std::size_t rayBytes = rays.size_bytes();
-  const std::size_t hitBytes = hits.size() * sizeof(gpu_shared::TraceHit);
-  if (rays_.size() < rayBytes) rays_ = gpu::Buffer(context_, rayBytes, gpu::BufferKind::Upload);
-  if (hits_.size() < hitBytes) hits_ = gpu::Buffer(context_, hitBytes, gpu::BufferKind::Readback);
-  rays_.upload(rays.data(), rayBytes);
+  if (rays.empty()) return {};
+  batch_.stage(rays);
 
   gpu_shared::TracePushConstants pc{};
   pc.toroidalOffset = toroidalOffset_;
@@ -47,12 +43,11 @@ std::vector<gpu_shared::TraceHit> GpuTracer::trace(std::span<const gpu_shared::T
 
   gpu::CommandBatch batch = context_.beginBatch();
   batch.dispatch("trace", pipeline_,
-                 {&rays_, &hits_, &pageTable_, &distanceAtlas_, &albedoAtlas_, &emissionAtlas_},
+                 {&batch_.rays(), &batch_.hits(), &pageTable_, &distanceAtlas_, &albedoAtlas_, &emissionAtlas_},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch.submitAndWait();
   timings_ = batch.timings();
-  hits_.download(hits.data(), hitBytes);
-  return hits;
+  return batch_.readHits();
 }
 
 double GpuTracer::lastTraceMilliseconds() const {

@@ -10,6 +10,7 @@
 #include "gi/cpu_tracer.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gi/ray_batch.h"
 #include "gpu/compute_pipeline.h"
 
 namespace sdfstream {
@@ -31,9 +32,9 @@ class GpuTracer {
 
  private:
   gpu::Context& context_;
+  RayBatch batch_;
   gpu::ComputePipeline pipeline_;
   gpu::Buffer pageTable_, distanceAtlas_, albedoAtlas_, emissionAtlas_;
-  gpu::Buffer rays_, hits_;  // grown on demand, reused across calls
   glm::uvec4 toroidalOffset_{0};
   std::vector<gpu::PassTiming> timings_;
 };

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "gpu/context.h"
 
 namespace sdfstream::cli {
 namespace {
@@ -55,6 +56,14 @@ int Args::integer(const std::string& name, int fallback, int lo, int hi) const {
     usage(name + " expects an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
           "], got '" + *v + "'");
   return int(n);
+}
+
+std::unique_ptr<gpu::Context> gpuContextFromArgs(const Args& args) {
+  if (args.has("--cpu")) return nullptr;
+  gpu::ContextOptions options;
+  options.device = args.value("--device").value_or("");
+  options.validation = args.has("--validation");
+  return gpu::Context::create(options);
 }
 
 }  // namespace sdfstream::cli

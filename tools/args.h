@@ -3,10 +3,15 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
+
+namespace sdfstream::gpu {
+class Context;
+}
 
 namespace sdfstream::cli {
 
@@ -27,5 +32,10 @@ class Args {
   std::set<std::string> flags_;
   std::vector<std::string> positional_;
 };
+
+// The Vulkan context the command asked for: nullptr with --cpu (trace with the CPU reference),
+// else the device named by --device (or SDFSTREAM_DEVICE, or the best one), with the Khronos
+// validation layer when --validation is given (or SDFSTREAM_VALIDATION=1).
+std::unique_ptr<gpu::Context> gpuContextFromArgs(const Args& args);
 
 }  // namespace sdfstream::cli

@@ -74,14 +74,9 @@ int runBenchScroll(int argc, char** argv) {
   lo.cacheBytes = std::size_t(4) << 30;
   TileLoader loader(store, lo);
   CascadeStack stack(store, loader, so);
-  std::unique_ptr<gpu::Context> context;
-  std::unique_ptr<GpuStackTracer> gpu;
-  if (!args.has("--cpu")) {
-    gpu::ContextOptions options;
-    options.device = args.value("--device").value_or("");
-    context = gpu::Context::create(options);
-    gpu = std::make_unique<GpuStackTracer>(*context, stack);
-  }
+  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
+  std::unique_ptr<GpuStackTracer> gpu =
+      context ? std::make_unique<GpuStackTracer>(*context, stack) : nullptr;
 
   glm::dvec3 centre = 0.5 * (m.boundsMin + m.boundsMax);
   const double brick = 8.0 * m.spec.voxelSize;

@@ -53,12 +53,7 @@ int runDemo(int argc, char** argv) {
               scene.triangles.size(), world.bricks.size(), world.voxelSize,
               loadSeconds + sdfSeconds);
 
-  std::unique_ptr<gpu::Context> context;
-  if (!args.has("--cpu")) {
-    gpu::ContextOptions options;
-    options.device = args.value("--device").value_or("");
-    context = gpu::Context::create(options);
-  }
+  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
   std::string device = context ? context->deviceName() : "CPU reference";
   std::printf("[2/3] rendering on %s\n", device.c_str());
   ViewRenderer renderer(world, context.get());

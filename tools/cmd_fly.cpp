@@ -110,14 +110,9 @@ int runFly(int argc, char** argv) {
   TileLoader loader(store, lo);
   CascadeStack stack(store, loader, so);
 
-  std::unique_ptr<gpu::Context> context;
-  std::unique_ptr<GpuStackTracer> tracer;
-  if (!args.has("--cpu")) {
-    gpu::ContextOptions options;
-    options.device = args.value("--device").value_or("");
-    context = gpu::Context::create(options);
-    tracer = std::make_unique<GpuStackTracer>(*context, stack);
-  }
+  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
+  std::unique_ptr<GpuStackTracer> tracer =
+      context ? std::make_unique<GpuStackTracer>(*context, stack) : nullptr;
   fs::create_directories(out / "frames");
   std::printf("fly: %s, %d frames along %.0f m at %.1f m/s, %d cascades, atlas %.0f MiB, on %s\n",
               world.c_str(), frames, length, speed, stack.cascadeCount(),

@@ -46,13 +46,7 @@ int runRender(int argc, char** argv) {
   TraceSettings settings;
   settings.maxSteps = std::uint32_t(args.integer("--max-steps", 256, 1, 100000));
 
-  std::unique_ptr<gpu::Context> context;
-  if (!args.has("--cpu")) {
-    gpu::ContextOptions options;
-    options.device = args.value("--device").value_or("");
-    options.validation = args.has("--validation");
-    context = gpu::Context::create(options);
-  }
+  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
   ViewRenderer renderer(world, context.get(), settings);
   ViewResult r = renderer.render(camera, width, height);
   writePng(*args.value("-o"), r.image);
