@@ -18,6 +18,15 @@
 // skips empty space (ARCHITECTURE.md: "empty, at least d away"; Godot SDFGI slides, cascades
 // store distance so rays can leap through empty space).
 
+// `precise` forbids the shader compiler from fusing multiply-adds (NVIDIA does by default), so
+// the GPU rounds like the CPU reference (built with -ffp-contract=off) and threshold decisions
+// (hit or one more step) agree across vendors. C++ has no such qualifier and needs none.
+#ifdef __cplusplus
+#define SDF_PRECISE
+#else
+#define SDF_PRECISE precise
+#endif
+
 struct SdfSample {
   float distance;  // voxels; for a non-resident page, its conservative bound
   bool resident;   // true when the page holds a brick
@@ -50,9 +59,9 @@ float sdfBrickTrilinear(uint slot, vec3 q) {
   uint x0 = uint(c.x);
   uint y0 = uint(c.y);
   uint z0 = uint(c.z);
-  float fx = q.x - float(x0);
-  float fy = q.y - float(y0);
-  float fz = q.z - float(z0);
+  SDF_PRECISE float fx = q.x - float(x0);
+  SDF_PRECISE float fy = q.y - float(y0);
+  SDF_PRECISE float fz = q.z - float(z0);
   fx = clamp(fx, 0.0f, 1.0f);
   fy = clamp(fy, 0.0f, 1.0f);
   fz = clamp(fz, 0.0f, 1.0f);
@@ -64,13 +73,14 @@ float sdfBrickTrilinear(uint slot, vec3 q) {
   float d101 = sdfBrickDistance(slot, x0 + 1u, y0, z0 + 1u);
   float d011 = sdfBrickDistance(slot, x0, y0 + 1u, z0 + 1u);
   float d111 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0 + 1u);
-  float a = d000 + (d100 - d000) * fx;
-  float b = d010 + (d110 - d010) * fx;
-  float c2 = d001 + (d101 - d001) * fx;
-  float d = d011 + (d111 - d011) * fx;
-  float e = a + (b - a) * fy;
-  float f = c2 + (d - c2) * fy;
-  return e + (f - e) * fz;
+  SDF_PRECISE float a = d000 + (d100 - d000) * fx;
+  SDF_PRECISE float b = d010 + (d110 - d010) * fx;
+  SDF_PRECISE float c2 = d001 + (d101 - d001) * fx;
+  SDF_PRECISE float d = d011 + (d111 - d011) * fx;
+  SDF_PRECISE float e = a + (b - a) * fy;
+  SDF_PRECISE float f = c2 + (d - c2) * fy;
+  SDF_PRECISE float r = e + (f - e) * fz;
+  return r;
 }
 
 ivec3 sdfPageOf(vec3 p) {
@@ -86,7 +96,8 @@ SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
   if ((entry & 0x80000000u) != 0u) {
     s.resident = true;
     s.slot = entry & 0x7fffffffu;
-    s.distance = sdfBrickTrilinear(s.slot, p - vec3(page) * 8.0f);
+    SDF_PRECISE vec3 q = p - vec3(page) * 8.0f;
+    s.distance = sdfBrickTrilinear(s.slot, q);
   } else {
     s.resident = false;
     s.slot = 0u;
@@ -97,16 +108,16 @@ SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
 
 // Ray parameter at which the ray leaves the axis-aligned box [lo, hi] (it starts inside).
 float sdfBoxExit(vec3 o, vec3 invDir, vec3 lo, vec3 hi) {
-  vec3 t0 = (lo - o) * invDir;
-  vec3 t1 = (hi - o) * invDir;
+  SDF_PRECISE vec3 t0 = (lo - o) * invDir;
+  SDF_PRECISE vec3 t1 = (hi - o) * invDir;
   vec3 tFar = max(t0, t1);
   return min(tFar.x, min(tFar.y, tFar.z));
 }
 
 // Returns (tEnter, tExit) of the ray against [lo, hi]; tEnter > tExit means no overlap.
 vec2 sdfBoxClip(vec3 o, vec3 invDir, vec3 lo, vec3 hi) {
-  vec3 t0 = (lo - o) * invDir;
-  vec3 t1 = (hi - o) * invDir;
+  SDF_PRECISE vec3 t0 = (lo - o) * invDir;
+  SDF_PRECISE vec3 t1 = (hi - o) * invDir;
   vec3 tNear = min(t0, t1);
   vec3 tFar = max(t0, t1);
   return vec2(max(tNear.x, max(tNear.y, tNear.z)), min(tFar.x, min(tFar.y, tFar.z)));
@@ -170,7 +181,7 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
   for (uint i = 0u; i < maxSteps; ++i) {
     if (t > tEnd) return r;
     r.steps = i + 1u;
-    vec3 p = origin + dir * t;
+    SDF_PRECISE vec3 p = origin + dir * t;
     SdfSample s = sdfSampleCascade(p, toroidalOffset);
     if (s.resident) {
       if (s.distance < hitEpsilon) {
@@ -228,7 +239,7 @@ SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, u
   for (uint c = 0u; c < cascadeCount; ++c) {
     CascadeTraceParams cp = SDF_CASCADE(c);
     float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
-    vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
+    SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
     uint budget = maxSteps > res.steps ? maxSteps - res.steps : 0u;
     SdfTraceResult r = sdfTrace(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon, cp.toroidal);
     res.steps += r.steps;
