@@ -51,6 +51,29 @@ struct ProbeVolume {
                          // w: Chebyshev minimum variance                               (112..127)
 };
 
+// Push constants of the probe update passes (probe_trace.comp, probe_blend.comp); the per-volume
+// ProbeVolume above travels in a one-element storage buffer (it fills the guaranteed 128 bytes).
+SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays into interior texels
+SDF_CONST uint kProbeBlendModeBorder = 1u;    // probe_blend.comp: copy border texels
+SDF_CONST uint kProbeBlendTexelsPerProbe = 232u;  // 6² irradiance + 14² depth interior texels
+SDF_CONST uint kProbeTileTexelsPerProbe = 320u;   // 8² irradiance + 16² depth tile texels
+
+struct ProbeUpdatePushConstants {
+  vec4 skyBounce;   // xyz: sky radiance (linear RGB) a miss returns; w: bounce gain (0..1) (0..15)
+  uvec4 counts;     // x: probe count, y: threads of this dispatch, z: trace max steps,
+                    // w: cascade count                                                 (16..31)
+  vec4 trace;       // x: hit epsilon (voxels), y: trace tMax (cascade-0 voxels), z: 1 = adaptive
+                    // hysteresis (M21 Sec. 4.3), w unused                              (32..47)
+  uvec4 mode;       // x: kProbeBlendMode* (probe_blend.comp); yzw unused               (48..63)
+};
+
+// One irradiance query of probe_sample.comp (irradiance(x, n, view) of a volume).
+struct ProbeQuery {
+  vec4 position;  // xyz: receiver, cascade-0 voxels; w unused                         (0..15)
+  vec4 normal;    // xyz: unit surface normal; w unused                                (16..31)
+  vec4 view;      // xyz: unit direction from the receiver towards the camera; w unused (32..47)
+};
+
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
@@ -61,6 +84,17 @@ static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, scroll) == 32);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 48);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 96);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, visibility) == 112);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeUpdatePushConstants) == 64);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
+static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==
+              sdfstream::gpu_shared::kProbeIrradianceInterior *
+                      sdfstream::gpu_shared::kProbeIrradianceInterior +
+                  sdfstream::gpu_shared::kProbeDepthInterior *
+                      sdfstream::gpu_shared::kProbeDepthInterior);
+static_assert(sdfstream::gpu_shared::kProbeTileTexelsPerProbe ==
+              sdfstream::gpu_shared::kProbeIrradianceTexels *
+                      sdfstream::gpu_shared::kProbeIrradianceTexels +
+                  sdfstream::gpu_shared::kProbeDepthTexels * sdfstream::gpu_shared::kProbeDepthTexels);
 static_assert(sdfstream::gpu_shared::kProbeIrradianceInterior +
                   2 * sdfstream::gpu_shared::kProbeBorderTexels ==
               sdfstream::gpu_shared::kProbeIrradianceTexels);
