@@ -4,6 +4,11 @@
 #include <limits>
 #include <mutex>
 
+#include <tbb/parallel_for.h>
+
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/VolumeToMesh.h>
+
 #include "world/color_pack.h"
 #include "world/level_set_bricks.h"
 #include "world/mesh_to_sdf.h"
@@ -12,6 +17,10 @@ namespace sdfstream {
 namespace {
 
 constexpr int kCells = int(layout::kBrickCells);
+// volumeToMesh adaptivity of the coarse-LOD rebuild: merges flat stretches of the finer
+// isosurface (bunny at 256 voxels across: 228k polygons at 0 -> 10k from LOD 0); coarse-LOD sign
+// agreement and thin walls unchanged (tests/partition); 0.2 measured 1.85x vdb_tool, 0.5 1.7x.
+constexpr double kRebuildAdaptivity = 0.5;
 
 class MeshSource final : public SdfSource {
  public:
@@ -41,7 +50,15 @@ class MeshSource final : public SdfSource {
     Lod& l = lods_.at(std::size_t(lod));
     l.voxel = spec.lodVoxelSize(lod);
     l.origin = spec.origin;
-    l.levelSet = meshLevelSet(scene_, closed_, l.voxel, spec.origin);
+    const Lod* finer = lod > 0 ? &lods_.at(std::size_t(lod - 1)) : nullptr;
+    // Coarse LODs of a closed mesh: rebuilt from the next finer level set (its zero isosurface,
+    // ~4x fewer polygons per LOD step) instead of the whole mesh again; LOD 0 and open meshes as
+    // before. Falls back to the mesh when the finer LOD is not prepared on this grid.
+    if (closed_ && finer && finer->levelSet.distance && finer->origin == spec.origin &&
+        finer->voxel * 2.0 == l.voxel)
+      l.levelSet = rebuildFrom(*finer, l.voxel, spec.origin);
+    else
+      l.levelSet = meshLevelSet(scene_, closed_, l.voxel, spec.origin);
   }
 
   void releaseLod(int lod) override { lods_.at(std::size_t(lod)) = Lod{}; }
@@ -95,6 +112,77 @@ class MeshSource final : public SdfSource {
     glm::dvec3 origin{0.0};
     MeshLevelSet levelSet;
   };
+
+  // Signed level set at voxelSize (= 2 finer voxels) from the finer LOD's zero isosurface
+  // (volumeToMesh with kRebuildAdaptivity, then meshToVolume with the same band and transform as
+  // meshLevelSet). Closest triangle of a sample: the finer LOD's at the same point (sample i is
+  // finer sample 2i) where it has one, else the rebuilt closest polygon's, mapped back to a scene
+  // triangle through the finer index grid around the polygon's centroid (inside its band).
+  MeshLevelSet rebuildFrom(const Lod& finer, double voxelSize, glm::dvec3 origin) const {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(*finer.levelSet.distance, points, triangles, quads, 0.0,
+                                 kRebuildAdaptivity);
+    std::vector<openvdb::Vec3d> indexPoints(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      indexPoints[i] = (openvdb::Vec3d(points[i]) - openvdb::Vec3d(origin.x, origin.y, origin.z)) /
+                       voxelSize;
+    std::vector<openvdb::Vec4I> polygons(quads);
+    polygons.reserve(quads.size() + triangles.size());
+    for (const openvdb::Vec3I& t : triangles)
+      polygons.emplace_back(t[0], t[1], t[2], openvdb::util::INVALID_IDX);
+    // Rebuilt polygon -> scene triangle, through the finer index grid near the centroid.
+    const auto invalid = openvdb::Int32(openvdb::util::INVALID_IDX);
+    std::vector<openvdb::Int32> triangleOf(polygons.size(), invalid);
+    {
+      auto index = finer.levelSet.closest->getConstAccessor();
+      auto dist = finer.levelSet.distance->getConstAccessor();
+      const auto triangleCount = std::int64_t(scene_.triangles.size());
+      tbb::parallel_for(std::size_t(0), polygons.size(), [&](std::size_t p) {
+        auto idx = index;  // accessors are not thread-safe: copy per task
+        auto d = dist;
+        const openvdb::Vec4I& q = polygons[p];
+        const int n = q[3] == openvdb::util::INVALID_IDX ? 3 : 4;
+        openvdb::Vec3d c(0.0);
+        for (int k = 0; k < n; ++k) c += openvdb::Vec3d(points[q[k]]);
+        c = (c / double(n) - openvdb::Vec3d(origin.x, origin.y, origin.z)) / finer.voxel;
+        const openvdb::Coord f = openvdb::Coord::floor(c);
+        float bestDist = 0;
+        for (int k = 0; k < 8; ++k) {
+          const openvdb::Coord ijk = f.offsetBy(k & 1, k >> 1 & 1, k >> 2);
+          const std::int64_t t = idx.getValue(ijk);
+          if (t < 0 || t >= triangleCount) continue;
+          const float a = std::abs(d.getValue(ijk));
+          if (triangleOf[p] == invalid || a < bestDist)
+            triangleOf[p] = openvdb::Int32(t), bestDist = a;
+        }
+      });
+    }
+    openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3d, openvdb::Vec4I> mesh(indexPoints,
+                                                                                    polygons);
+    auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+    transform->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
+    MeshLevelSet out;
+    out.closest = openvdb::Int32Grid::create(openvdb::Int32(openvdb::util::INVALID_IDX));
+    const float band = layout::kNarrowBand;
+    out.distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band,
+                                                                    0, out.closest.get());
+    auto fine = finer.levelSet.closest->getConstAccessor();
+    const auto triangleCount = std::int64_t(scene_.triangles.size());
+    for (auto it = out.closest->beginValueOn(); it; ++it) {
+      const openvdb::Int32 t = fine.getValue(it.getCoord() << 1);
+      if (t >= 0 && t < triangleCount) {
+        it.setValue(t);
+        continue;
+      }
+      const openvdb::Int32 p = *it;
+      it.setValue(p >= 0 && std::size_t(p) < triangleOf.size() ? triangleOf[std::size_t(p)]
+                                                               : invalid);
+    }
+    out.closest->setTransform(transform->copy());
+    return out;
+  }
   TriangleScene scene_;
   bool closed_ = false;
   std::array<Lod, PartitionSpec::kMaxLods> lods_;

@@ -129,12 +129,11 @@ void importPack(const std::vector<std::unique_ptr<SdfSource>>& sources,
   }
 
   PackWriter writer(out, spec);  // before the slow part: a bad output path fails fast
-  // Every (source, LOD) is independent: run them side by side so one meshToVolume's serial
-  // stretches leave cores to the others (OpenVDB parallelises inside each as well).
-  const std::size_t lods = std::size_t(spec.lodCount);
-  tbb::parallel_for(std::size_t(0), sources.size() * lods, [&](std::size_t i) {
-    sources[i / lods]->prepareLod(spec, int(i % lods));
-  });
+  // LOD by LOD, all sources side by side: a mesh source builds LOD l >= 1 from its LOD l-1
+  // level set (mesh_source.cpp), so LOD l-1 must be ready first (OpenVDB parallelises inside).
+  for (int lod = 0; lod < spec.lodCount; ++lod)
+    tbb::parallel_for(std::size_t(0), sources.size(),
+                      [&](std::size_t i) { sources[i]->prepareLod(spec, lod); });
   std::mutex progressMutex;
   std::size_t done = 0;
   tbb::parallel_for(std::size_t(0), tiles.size(), [&](std::size_t i) {
