@@ -36,7 +36,8 @@ class SdfSource {
   virtual glm::dvec3 boundsMax() const = 0;
   // Prepares whatever sampling at this LOD needs (e.g. builds the level set at v0·2^lod on the
   // spec's aligned grid). Called once per LOD before any sampleBrick at that LOD; may be slow.
-  // Calls for different LODs (and different sources) may run concurrently.
+  // LODs are prepared in order (a mesh source derives LOD l from its LOD l-1 level set); calls
+  // for different sources at the same LOD may run concurrently.
   virtual void prepareLod(const PartitionSpec& spec, int lod) = 0;
   // Writes this source's samples for LOD-l brick `brick` (samples 8·brick .. 8·brick+8 of the
   // LOD-l grid, in LOD-l voxel units, clamped ±kNarrowBand) into out, taking the minimum with
