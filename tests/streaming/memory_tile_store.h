@@ -3,6 +3,8 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <thread>
 #include <condition_variable>
 #include <map>
 #include <mutex>
@@ -32,6 +34,7 @@ class MemoryTileStore : public TileStore {
   std::shared_ptr<const Tile> load(glm::ivec3 t, int /*lod: all are generated*/) const override {
     ++loads;
     gate();
+    if (latencyMs > 0) std::this_thread::sleep_for(std::chrono::milliseconds(latencyMs));
     if (failing.count({t.x, t.y, t.z})) throw std::runtime_error("injected I/O error");
     glm::ivec3 u = t - shift_;
     auto tile = std::make_shared<Tile>();
@@ -80,6 +83,7 @@ class MemoryTileStore : public TileStore {
 
   std::set<std::tuple<int, int, int>> failing;  // tiles whose load() throws
   mutable std::atomic<int> loads{0};
+  int latencyMs = 0;  // injected I/O latency per load
 
  private:
   static std::uint32_t hash(glm::ivec3 c) {
