@@ -226,8 +226,9 @@ int benchWorld(const Args& args) {
 }  // namespace
 
 int runBench(int argc, char** argv) {
-  // bench scroll has its own options (tools/bench_scroll.cpp).
+  // bench scroll and bench stream have their own options (tools/bench_scroll.cpp, bench_stream.cpp).
   if (argc > 2 && std::string(argv[2]) == "scroll") return runBenchScroll(argc, argv);
+  if (argc > 2 && std::string(argv[2]) == "stream") return runBenchStream(argc, argv);
   Args args(argc, argv, 2,
             {"-o", "--mesh", "--voxel", "--runs", "--lods", "--tile-voxels", "--max-memory-gib"},
             {"--help", "-h"});
@@ -238,6 +239,8 @@ int runBench(int argc, char** argv) {
         "[-o out/bench/import]\n"
         "       sdfstream bench world LAYOUT.json [--voxel 1] [--lods 4] [-o out/bench/world]\n"
         "       sdfstream bench scroll WORLD [--moves N] [-o out/bench/scroll]\n"
+        "       sdfstream bench stream WORLD [--frames 600] [--long-frames 10000] "
+        "[-o out/bench/stream]\n"
         "\n"
         "import: LOD-0 import of a mesh (default: glmark2's bunny; voxel default: largest extent\n"
         "        / 256, vdb_tool's default) through sdfstream's tiled importer vs\n"
@@ -246,12 +249,14 @@ int runBench(int argc, char** argv) {
         "world:  imports a layout (terrain + instances, see generate-world) to OUT/pack with a\n"
         "        progress bar, then verifies it; reports time, tiles, bricks and size.\n"
         "scroll: a one-brick camera move vs a full rebuild of every cascade (see its --help).\n"
+        "stream: fly-throughs at 50 and 200 m/s (residency, latency, read throughput) vs a plain\n"
+        "        sequential read of the tile files, and a long run sampling memory (see its --help).\n"
         "All write results.csv and summary.md into the -o directory.");
     return what.empty() && !args.has("--help") && !args.has("-h") ? 2 : 0;
   }
   if (what == "import") return benchImport(args);
   if (what == "world") return benchWorld(args);
-  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world, scroll)");
+  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world, scroll, stream)");
 }
 
 }  // namespace sdfstream::cli

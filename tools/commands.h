@@ -14,5 +14,6 @@ int runFly(int argc, char** argv);  // tools/cmd_fly.cpp
 int runGenerateWorld(int argc, char** argv);  // tools/cmd_generate_world.cpp
 int runBench(int argc, char** argv);          // tools/cmd_bench.cpp
 int runBenchScroll(int argc, char** argv);    // tools/bench_scroll.cpp (argv[2] == "scroll")
+int runBenchStream(int argc, char** argv);    // tools/bench_stream.cpp (argv[2] == "stream")
 
 }  // namespace sdfstream::cli
