@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <malloc.h>
+
 namespace sdfstream {
 
 std::size_t decodedTileBytes(const Tile& tile) {
@@ -95,6 +97,7 @@ void TileLoader::insertIntoCache(TileKey key, std::shared_ptr<const Tile> tile) 
     lru_.pop_back();
     auto it = cache_.find(victim);
     cachedBytes_ -= it->second.bytes;
+    evictedSinceTrim_ += it->second.bytes;
     cache_.erase(it);
   }
 }
@@ -155,6 +158,15 @@ void TileLoader::workerLoop() {
       queued_.emplace(key, request);
     }
     if (queued_.empty() && inFlight_.empty()) idle_.notify_all();
+    // Decoded tiles are freed on whichever thread drops the last reference, and glibc keeps that
+    // memory in per-thread arenas: a 10,000-frame fly-over grew RSS ~20% with a flat heap. Trim
+    // once per 64 MiB evicted so RSS follows the cache budget (bench stream measures this).
+    if (evictedSinceTrim_ >= (64u << 20)) {
+      evictedSinceTrim_ = 0;
+      lock.unlock();
+      malloc_trim(0);
+      lock.lock();
+    }
   }
 }
 

@@ -114,6 +114,7 @@ class TileLoader {
   std::map<TileKey, CacheEntry, TileKeyLess> cache_;
   std::list<TileKey> lru_;  // front = most recently used
   std::size_t cachedBytes_ = 0;
+  std::size_t evictedSinceTrim_ = 0;  // see workerLoop: hands freed tile memory back to the OS
   LoaderStats stats_;
   std::vector<std::thread> workers_;
 };

@@ -369,7 +369,10 @@ int runBenchStream(int argc, char** argv) {
       if (m.frame >= warm->frame) maxRssAfterWarm = std::max(maxRssAfterWarm, m.rss);
       if (m.frame >= warm->frame) maxHeapAfterWarm = std::max(maxHeapAfterWarm, m.heap);
     }
-    rssGrew = double(maxRssAfterWarm) > 1.1 * double(warm->rss);
+    // Growth is a trend, not a transient: the end of the run vs the end of warm-up (RSS), plus
+    // the peak of live heap memory. Allocator caching makes RSS fluctuate by ±10% on its own.
+    rssGrew = double(last.rss) > 1.1 * double(warm->rss) ||
+              double(maxHeapAfterWarm) > 1.1 * double(warm->heap);
     md << "## Long run: " << longFrames << " frames unpaced, back and forth at 200 m/s ("
        << fmt(longSeconds, "%.1f") << " s wall)\n\n"
        << "| MiB | first (frame " << first.frame << ") | at frame " << warm->frame << " | last (frame "
@@ -384,7 +387,9 @@ int runBenchStream(int argc, char** argv) {
        << " | " << mib(last.gpuBytes) << " | " << mib(maxGpu) << " |\n\n"
        << "Samples every 500 frames in results.csv. RSS after frame " << warm->frame
        << " (warm-up) peaked at " << fmt(100.0 * (double(maxRssAfterWarm) / double(warm->rss) - 1.0), "%+.1f")
-       << "% of its value there: " << (rssGrew ? "GREW by more than 10%" : "no growth beyond 10%")
+       << "% of its value there and ended at "
+       << fmt(100.0 * (double(last.rss) / double(warm->rss) - 1.0), "%+.1f") << "%: "
+       << (rssGrew ? "GREW by more than 10%" : "no growth beyond 10%")
        << ". Heap in use after frame " << warm->frame << " peaked at "
        << fmt(100.0 * (double(maxHeapAfterWarm) / double(warm->heap) - 1.0), "%+.1f")
        << "% of its value there (RSS above heap in use is memory the allocator keeps after free).\n\n";
@@ -396,8 +401,8 @@ int runBenchStream(int argc, char** argv) {
      << "% — " << (slow.summary.meanResidentFraction >= 0.99 ? "met" : "NOT met") << ".\n"
      << "- No growth of RAM or GPU memory over a " << longFrames << "-frame fly-through: "
      << (samples.empty() ? "not measured (--long-frames 0)"
-                         : rssGrew ? "NOT met (RSS grew > 10% after warm-up)"
-                                   : "met (RSS within 10% after warm-up; see the GPU row)")
+                         : rssGrew ? "NOT met (RSS at the end or live heap > 10% above warm-up)"
+                                   : "met (end-of-run RSS and peak live heap within 10% of warm-up; GPU bytes fixed)")
      << ".\n";
 
   fs::create_directories(out);
