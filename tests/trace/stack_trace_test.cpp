@@ -209,9 +209,10 @@ TEST(StackTraceCpu, HundredKilometresFromTheOriginRendersIdentically) {
     ASSERT_EQ(nearHits[i].albedo, farHits[i].albedo) << i;
     ASSERT_NEAR(nearHits[i].normalT.w, farHits[i].normalT.w, 1e-4f) << i;
     const bool hit = nearHits[i].flags & gpu_shared::kHitFlagHit;
-    if (hit)
+    if (hit) {
       ASSERT_GT(glm::dot(glm::vec3(nearHits[i].normalT), glm::vec3(farHits[i].normalT)), 0.9999f)
           << i;
+    }
     hits += hit;
     bitIdentical += nearHits[i].normalT == farHits[i].normalT;
   }
