@@ -20,6 +20,14 @@ struct CoordLess {
   bool operator()(const glm::ivec3& a, const glm::ivec3& b) const { return brickCoordLess(a, b); }
 };
 
+// A level-set value (world units) as a stored sample: voxel units, clamped to the narrow band;
+// non-finite values read as far outside.
+float bandVoxels(float value, float invVoxel) {
+  const float d = value * invVoxel;
+  if (!std::isfinite(d)) return layout::kNarrowBand;
+  return std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+}
+
 // Fills brick's coord and distances; returns whether any sample is inside the narrow band.
 bool sampleBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 coord, float invVoxel,
                  Brick& brick) {
@@ -29,9 +37,7 @@ bool sampleBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 coord, float
   for (int z = 0; z < kSamples; ++z)
     for (int y = 0; y < kSamples; ++y)
       for (int x = 0; x < kSamples; ++x) {
-        float d = acc.getValue(base.offsetBy(x, y, z)) * invVoxel;
-        if (!std::isfinite(d)) d = layout::kNarrowBand;
-        d = std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+        const float d = bandVoxels(acc.getValue(base.offsetBy(x, y, z)), invVoxel);
         near = near || std::abs(d) < layout::kNarrowBand;
         brick.distance[brickSampleIndex(x, y, z)] = std::uint16_t(glm::packHalf1x16(d));
       }
@@ -134,9 +140,7 @@ bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick
   for (int z = 0; z < kSamples; ++z)
     for (int y = 0; y < kSamples; ++y)
       for (int x = 0; x < kSamples; ++x) {
-        float d = acc.getValue(base.offsetBy(x, y, z)) * invVoxel;
-        if (!std::isfinite(d)) d = layout::kNarrowBand;
-        d = std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+        const float d = bandVoxels(acc.getValue(base.offsetBy(x, y, z)), invVoxel);
         near = near || std::abs(d) < layout::kNarrowBand;
         const int i = brickSampleIndex(x, y, z);
         if (own) (*own)[std::size_t(i)] = d;
