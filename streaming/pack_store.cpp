@@ -7,15 +7,12 @@ PackTileStore::PackTileStore(std::filesystem::path dir)
   for (const TileEntry& e : manifest_.tiles) entries_[e.coord] = &e;
 }
 
-std::shared_ptr<const Tile> PackTileStore::load(glm::ivec3 tile, int lod) const {
+std::shared_ptr<const Tile> PackTileStore::load(glm::ivec3 tile, int lod,
+                                                std::size_t* bytesRead) const {
   auto it = entries_.find(tile);
   if (it == entries_.end()) return nullptr;
-  return std::make_shared<const Tile>(readTileLod(dir_, *it->second, manifest_.spec, lod));
-}
-
-std::size_t PackTileStore::tileBytes(glm::ivec3 tile) const {
-  auto it = entries_.find(tile);
-  return it == entries_.end() ? 0 : std::size_t(it->second->bytes);
+  return std::make_shared<const Tile>(
+      readTileLod(dir_, *it->second, manifest_.spec, lod, bytesRead));
 }
 
 }  // namespace sdfstream

@@ -19,8 +19,7 @@ class PackTileStore : public TileStore {
 
   const PartitionSpec& spec() const override { return manifest_.spec; }
   bool hasTile(glm::ivec3 tile) const override { return entries_.count(tile) != 0; }
-  std::shared_ptr<const Tile> load(glm::ivec3 tile, int lod) const override;
-  std::size_t tileBytes(glm::ivec3 tile) const override;
+  std::shared_ptr<const Tile> load(glm::ivec3 tile, int lod, std::size_t* bytesRead) const override;
   const PackManifest& manifest() const { return manifest_; }
 
  private:

@@ -131,12 +131,12 @@ void TileLoader::workerLoop() {
     lock.unlock();
 
     std::shared_ptr<const Tile> tile;
+    std::size_t diskBytes = 0;
     try {
-      tile = store_.load(key.coord, key.lod);
+      tile = store_.load(key.coord, key.lod, &diskBytes);
     } catch (const std::exception&) {
       tile = nullptr;
     }
-    std::size_t diskBytes = tile ? store_.tileBytes(key.coord) : 0;
 
     lock.lock();
     inFlight_.erase(key);

@@ -20,9 +20,9 @@ class TileStore {
   // Reads, verifies and decodes one LOD of one tile (the returned Tile's lods[lod] is filled;
   // other LODs may be empty): a cascade needs only its own LOD. Blocking I/O; thread-safe.
   // Throws on failure (InputError for corrupt data, std::exception for I/O); the loader retries.
-  virtual std::shared_ptr<const Tile> load(glm::ivec3 tile, int lod) const = 0;
-  // Bytes the tile occupies on disk (for metrics); 0 if unknown.
-  virtual std::size_t tileBytes(glm::ivec3 tile) const = 0;
+  // *bytesRead receives the bytes this load read from storage (for metrics).
+  virtual std::shared_ptr<const Tile> load(glm::ivec3 tile, int lod,
+                                           std::size_t* bytesRead) const = 0;
 };
 
 }  // namespace sdfstream

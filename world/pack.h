@@ -82,8 +82,9 @@ Tile readTile(const std::filesystem::path& dir, const TileEntry& entry, int lodC
 // that LOD's section checksum and contents, and decodes only that section (the returned tile's
 // other LODs are empty). The whole-file checksum is left to verifyPack: every byte this uses is
 // covered by the header or the section checksum.
+// Only the header and that section are read from disk; *bytesRead (optional) receives how many.
 Tile readTileLod(const std::filesystem::path& dir, const TileEntry& entry,
-                 const PartitionSpec& spec, int lod);
+                 const PartitionSpec& spec, int lod, std::size_t* bytesRead = nullptr);
 
 // Checks the manifest and fully reads every tile (in parallel); returns an empty string when all
 // is well, else the first problem in manifest order as one line naming the bad tile, e.g.

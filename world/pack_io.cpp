@@ -219,15 +219,36 @@ Tile readTile(const fs::path& dir, const TileEntry& entry, const PartitionSpec& 
   return tile;
 }
 
-Tile readTileLod(const fs::path& dir, const TileEntry& entry, const PartitionSpec& spec, int lod) {
+Tile readTileLod(const fs::path& dir, const TileEntry& entry, const PartitionSpec& spec, int lod,
+                 std::size_t* bytesRead) {
   if (lod < 0 || lod >= spec.lodCount) throw std::invalid_argument("readTileLod: lod out of range");
   const fs::path path = dir / entry.file;
   const std::string file = path.string();
-  std::vector<std::uint8_t> bytes = readWholeFile(path);
-  if (bytes.size() != entry.bytes)
-    throw InputError(bytes.size() < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed,
-                     file, std::to_string(bytes.size()) + " bytes, manifest declares " +
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputError(InputErrorKind::Io, file, "cannot open: " + ec.message());
+  if (size != entry.bytes)
+    throw InputError(size < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed,
+                     file, std::to_string(size) + " bytes, manifest declares " +
                                std::to_string(entry.bytes));
+  // The buffer has the file's size so every offset check sees the real layout, but only the
+  // header and the wanted section are read; the rest stays zero and is never looked at
+  // (decodeTile verifies and decodes the masked section only).
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size), 0);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(InputErrorKind::Io, file, "cannot open");
+  auto readRange = [&](std::size_t offset, std::size_t count) {
+    in.seekg(std::streamoff(offset));
+    in.read(reinterpret_cast<char*>(bytes.data() + offset), std::streamsize(count));
+    if (!in) throw InputError(InputErrorKind::Truncated, file, "read failed");
+  };
+  const std::size_t headerBytes =
+      std::min<std::size_t>(bytes.size(), pack_format::tileHeaderBytes(spec.lodCount));
+  readRange(0, headerBytes);
+  const pack_format::TileHeader header = pack_format::decodeTileHeader(bytes, spec, file);
+  const auto& section = header.sections[std::size_t(lod)];
+  readRange(std::size_t(section.offset), std::size_t(section.bytes));
+  if (bytesRead) *bytesRead = headerBytes + std::size_t(section.bytes);
   Tile tile = pack_format::decodeTile(bytes, spec, file, 1u << lod);
   if (tile.coord != entry.coord)
     throw InputError(InputErrorKind::Malformed, file, "header coordinate differs from its name");

@@ -30,8 +30,9 @@ class MemoryTileStore : public TileStore {
     if (glm::any(glm::greaterThan(glm::abs(u), glm::ivec3(range_)))) return false;
     return hash(u) % 10 < 6;
   }
-  std::size_t tileBytes(glm::ivec3) const override { return 4096; }
-  std::shared_ptr<const Tile> load(glm::ivec3 t, int /*lod: all are generated*/) const override {
+  std::shared_ptr<const Tile> load(glm::ivec3 t, int /*lod: all are generated*/,
+                                   std::size_t* bytesRead) const override {
+    if (bytesRead) *bytesRead = 4096;
     ++loads;
     gate();
     if (latencyMs > 0) std::this_thread::sleep_for(std::chrono::milliseconds(latencyMs));

@@ -37,7 +37,7 @@ std::filesystem::path writeTestPack(const std::string& name) {
   for (int z = -4; z <= 4; ++z)
     for (int y = -4; y <= 4; ++y)
       for (int x = -4; x <= 4; ++x)
-        if (source.hasTile({x, y, z})) writer.addTile(*source.load({x, y, z}, 0));
+        if (source.hasTile({x, y, z})) writer.addTile(*source.load({x, y, z}, 0, nullptr));
   writer.commit(glm::dvec3(-128.0), glm::dvec3(160.0), "memory", {"test"});
   return dir;
 }

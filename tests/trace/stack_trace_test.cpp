@@ -159,9 +159,8 @@ class ShiftedStore : public TileStore {
   ShiftedStore(const TileStore& base, glm::ivec3 shift) : base_(base), shift_(shift) {}
   const PartitionSpec& spec() const override { return base_.spec(); }
   bool hasTile(glm::ivec3 t) const override { return base_.hasTile(t - shift_); }
-  std::size_t tileBytes(glm::ivec3 t) const override { return base_.tileBytes(t - shift_); }
-  std::shared_ptr<const Tile> load(glm::ivec3 t, int lod) const override {
-    auto src = base_.load(t - shift_, lod);
+  std::shared_ptr<const Tile> load(glm::ivec3 t, int lod, std::size_t* bytesRead) const override {
+    auto src = base_.load(t - shift_, lod, bytesRead);
     if (!src) return nullptr;
     auto tile = std::make_shared<Tile>(*src);
     tile->coord = t;
