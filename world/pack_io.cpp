@@ -88,6 +88,19 @@ bool sameSpec(const PartitionSpec& a, const PartitionSpec& b) {
          a.origin == b.origin;
 }
 
+// The tile file's size, which must be what the manifest declares (Io, Truncated or Malformed).
+std::uintmax_t checkedTileSize(const fs::path& path, const TileEntry& entry) {
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputError(InputErrorKind::Io, path.string(), "cannot open: " + ec.message());
+  if (size != entry.bytes)
+    throw InputError(size < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed,
+                     path.string(),
+                     std::to_string(size) + " bytes, manifest declares " +
+                         std::to_string(entry.bytes));
+  return size;
+}
+
 // Reads one tile file, checks it against its manifest entry and decodes it; returns the bytes.
 // Without a spec, the tile edge comes from the tile itself (specOfTile).
 std::vector<std::uint8_t> readVerifiedTile(const fs::path& dir, const TileEntry& entry,
@@ -95,13 +108,7 @@ std::vector<std::uint8_t> readVerifiedTile(const fs::path& dir, const TileEntry&
                                            Tile& tile) {
   const fs::path path = dir / entry.file;
   const std::string file = path.string();
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw InputError(InputErrorKind::Io, file, "cannot open: " + ec.message());
-  if (size != entry.bytes)
-    throw InputError(
-        size < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed, file,
-        std::to_string(size) + " bytes, manifest declares " + std::to_string(entry.bytes));
+  checkedTileSize(path, entry);
   std::vector<std::uint8_t> bytes = readWholeFile(path);
   if (bytes.size() != entry.bytes)
     throw InputError(InputErrorKind::Truncated, file, "changed size while being read");
@@ -224,13 +231,7 @@ Tile readTileLod(const fs::path& dir, const TileEntry& entry, const PartitionSpe
   if (lod < 0 || lod >= spec.lodCount) throw std::invalid_argument("readTileLod: lod out of range");
   const fs::path path = dir / entry.file;
   const std::string file = path.string();
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw InputError(InputErrorKind::Io, file, "cannot open: " + ec.message());
-  if (size != entry.bytes)
-    throw InputError(size < entry.bytes ? InputErrorKind::Truncated : InputErrorKind::Malformed,
-                     file, std::to_string(size) + " bytes, manifest declares " +
-                               std::to_string(entry.bytes));
+  const std::uintmax_t size = checkedTileSize(path, entry);
   // The buffer has the file's size so every offset check sees the real layout, but only the
   // header and the wanted section are read; the rest stays zero and is never looked at
   // (decodeTile verifies and decodes the masked section only).

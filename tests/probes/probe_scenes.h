@@ -1,6 +1,5 @@
-// Scenes for the probe update tests: the streamed bunny pack (the path of
-// tests/trace/stack_trace_test.cpp) and an analytic closed box built straight into a
-// CascadeStackImage (no pack): cascade 0 holds the exact SDF of the inside of an axis-aligned box
+// Scenes for the probe update tests (the streamed bunny is tests/support/streamed_bunny.h):
+// an analytic closed box built straight into a CascadeStackImage (no pack): cascade 0 holds the exact SDF of the inside of an axis-aligned box
 // (positive = empty inside, negative in the walls) with uniform albedo and emission.
 #pragma once
 
@@ -14,43 +13,11 @@
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
 #include "streaming/tile_loader.h"
+#include "tests/support/streamed_bunny.h"
 #include "tests/support/test_data.h"
 #include "world/pack_import.h"
 
 namespace sdfstream::test {
-
-struct StreamedBunny {
-  std::filesystem::path pack;
-  std::unique_ptr<PackTileStore> store;
-  std::unique_ptr<TileLoader> loader;
-  std::unique_ptr<CascadeStack> stack;
-  glm::dvec3 camera;
-};
-
-// The bunny (about 2 m) at v0 = 1.2 cm, 3 cascades, settled around a camera in front of it.
-inline StreamedBunny streamBunny() {
-  StreamedBunny b;
-  const std::filesystem::path obj = "/usr/share/glmark2/models/bunny.obj";
-  b.pack = scratchDir("probe-bunny") / "pack";
-  PackImportOptions o;
-  o.voxelSize = 0.012;
-  o.lodCount = 3;
-  o.tileVoxels = 64;
-  auto sources = sourcesForInput(obj, 0.0, o.limits);
-  PartitionSpec spec = partitionFor(sources, o, "bunny.obj");
-  importPack(sources, b.pack, spec, o, "bunny.obj");
-  b.store = std::make_unique<PackTileStore>(b.pack);
-  b.loader = std::make_unique<TileLoader>(*b.store);
-  StreamingOptions so;
-  so.cascades = 3;
-  b.stack = std::make_unique<CascadeStack>(*b.store, *b.loader, so);
-  b.camera = glm::dvec3(0.3, 0.4, 1.4);
-  for (int i = 0; i < 100 && !b.stack->settled(); ++i) {
-    b.stack->update(b.camera);
-    b.loader->waitIdle();
-  }
-  return b;
-}
 
 // One-cascade stack image of the inside of the box [lo, hi]³ (cascade-0 voxels, inside [0,128)).
 // Pages touching the box are resident bricks; all others are "no surface, bound 0".

@@ -12,10 +12,27 @@
 #include <set>
 #include <stdexcept>
 
+#include "streaming/cascade_stack.h"
 #include "streaming/tile_loader.h"
 #include "streaming/tile_store.h"
 
 namespace sdfstream::test {
+
+// The small partition the streaming tests use: 1 m voxels, 3 LODs, 32-voxel tiles (4, 2 and 1
+// bricks per tile edge), and matching streaming options (3 cascades, 6,000 atlas slots).
+inline PartitionSpec smallTestSpec() {
+  PartitionSpec s;
+  s.voxelSize = 1.0;
+  s.lodCount = 3;
+  s.tileVoxels = 32;
+  return s;
+}
+inline StreamingOptions smallTestOptions() {
+  StreamingOptions o;
+  o.cascades = 3;
+  o.atlasSlots = 6000;
+  return o;
+}
 
 class MemoryTileStore : public TileStore {
  public:

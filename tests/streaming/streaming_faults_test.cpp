@@ -14,20 +14,8 @@
 namespace sdfstream {
 namespace {
 
-PartitionSpec faultSpec() {
-  PartitionSpec s;
-  s.voxelSize = 1.0;
-  s.lodCount = 3;
-  s.tileVoxels = 32;
-  return s;
-}
-
-StreamingOptions faultOptions() {
-  StreamingOptions o;
-  o.cascades = 3;
-  o.atlasSlots = 6000;
-  return o;
-}
+PartitionSpec faultSpec() { return test::smallTestSpec(); }
+StreamingOptions faultOptions() { return test::smallTestOptions(); }
 
 // Writes the procedural world of MemoryTileStore into a real pack on disk.
 std::filesystem::path writeTestPack(const std::string& name) {

@@ -12,20 +12,8 @@
 namespace sdfstream {
 namespace {
 
-PartitionSpec testSpec() {
-  PartitionSpec s;
-  s.voxelSize = 1.0;
-  s.lodCount = 3;
-  s.tileVoxels = 32;  // 4, 2, 1 bricks per tile edge at LOD 0, 1, 2
-  return s;
-}
-
-StreamingOptions testOptions() {
-  StreamingOptions o;
-  o.cascades = 3;
-  o.atlasSlots = 6000;
-  return o;
-}
+PartitionSpec testSpec() { return test::smallTestSpec(); }
+StreamingOptions testOptions() { return test::smallTestOptions(); }
 
 // Updates until every page is settled (each round lets the loader finish what was requested).
 void settle(CascadeStack& stack, TileLoader& loader, const glm::dvec3& camera) {

@@ -11,6 +11,7 @@
 #include "reference/embree_scene.h"
 #include "streaming/pack_store.h"
 #include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/streamed_bunny.h"
 #include "tests/support/test_data.h"
 #include "tests/trace/trace_fixture.h"
 #include "world/pack_import.h"
@@ -18,41 +19,8 @@
 namespace sdfstream {
 namespace {
 
-struct StreamedBunny {
-  TriangleScene triangles;
-  std::filesystem::path pack;
-  std::unique_ptr<PackTileStore> store;
-  std::unique_ptr<TileLoader> loader;
-  std::unique_ptr<CascadeStack> stack;
-  glm::dvec3 camera;
-};
-
-// The bunny (about 2 m) at v0 = 1.2 cm: cascade 0 spans 1.5 m, so rays cross cascades.
-StreamedBunny streamBunny() {
-  StreamedBunny b;
-  const std::filesystem::path obj = "/usr/share/glmark2/models/bunny.obj";
-  b.triangles = loadObj(obj);
-  b.pack = test::scratchDir("stack-bunny") / "pack";
-  PackImportOptions o;
-  o.voxelSize = 0.012;
-  o.lodCount = 3;
-  o.tileVoxels = 64;
-  auto sources = sourcesForInput(obj, 0.0, o.limits);
-  PartitionSpec spec = partitionFor(sources, o, "bunny.obj");
-  importPack(sources, b.pack, spec, o, "bunny.obj");
-  b.store = std::make_unique<PackTileStore>(b.pack);
-  b.loader = std::make_unique<TileLoader>(*b.store);
-  StreamingOptions so;
-  so.cascades = 3;
-  b.stack = std::make_unique<CascadeStack>(*b.store, *b.loader, so);
-  b.camera = glm::dvec3(0.3, 0.4, 1.4);  // in front of the bunny, outside it
-  for (int i = 0; i < 100 && !b.stack->settled(); ++i) {
-    b.stack->update(b.camera);
-    b.loader->waitIdle();
-  }
-  EXPECT_TRUE(b.stack->settled());
-  return b;
-}
+using test::StreamedBunny;
+using test::streamBunny;
 
 std::vector<gpu_shared::TraceRay> raysFromCamera(const StreamedBunny& b, const CascadeStackImage& img,
                                                  int count) {
