@@ -1,12 +1,13 @@
-// The stack traversal on the GPU (trace_stack.comp), fed by a streaming CascadeStack. Keeps the
-// page tables, the shared atlas and the cascade params in device buffers and, per frame, uploads
-// only what changed: the page tables (16 KiB per cascade) and the atlas slots the stack rewrote.
+// The stack traversal on the GPU (trace_stack.comp), fed by a streaming CascadeStack through a
+// GpuStackScene: per frame only the page tables (16 KiB per cascade) and the atlas slots the
+// stack rewrote are uploaded.
 #pragma once
 
 #include <span>
 #include <vector>
 
 #include "gi/cpu_tracer.h"
+#include "gi/gpu_stack_scene.h"
 #include "gi/ray_batch.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
@@ -22,7 +23,10 @@ class GpuStackTracer {
 
   // Uploads the stack's page tables, params and the given dirty atlas slots (from
   // CascadeStack::takeDirtySlots). Returns the bytes uploaded.
-  std::size_t sync(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots);
+  std::size_t sync(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots) {
+    return scene_.sync(stack, dirtySlots);
+  }
+  const GpuStackScene& scene() const { return scene_; }
 
   // Traces rays given in cascade-0 voxels (CascadeStackImage::toStack); blocks for the results.
   std::vector<gpu_shared::TraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
@@ -34,9 +38,7 @@ class GpuStackTracer {
   gpu::Context& context_;
   RayBatch batch_;
   gpu::ComputePipeline pipeline_;
-  std::uint32_t cascadeCount_;
-  gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
-  gpu::Buffer staging_;
+  GpuStackScene scene_;
   std::vector<gpu::PassTiming> timings_;
 };
 

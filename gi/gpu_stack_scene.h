@@ -1,0 +1,43 @@
+// The streamed cascade stack on the GPU: page tables, cascade params and the shared brick atlas
+// (distance, albedo, emission) in device buffers. One instance is shared by every pass that
+// reads the SDF (stack tracing, the light cache, the probe update), so the atlas is uploaded
+// once per frame, and only the slots the stack rewrote.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "gpu/buffer.h"
+#include "gpu/context.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream {
+
+class GpuStackScene {
+ public:
+  explicit GpuStackScene(gpu::Context& context) : context_(context) {}
+
+  // Whole-image upload (tests, analytic scenes, first frame); blocking. Buffers grow as needed.
+  void uploadAll(const CascadeStackImage& image);
+  // Per-frame sync from a streaming stack: page tables, params and the given dirty atlas slots
+  // (CascadeStack::takeDirtySlots). Allocates the atlas on first use. Blocking; returns the
+  // bytes uploaded.
+  std::size_t sync(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots);
+
+  std::uint32_t cascadeCount() const { return cascadeCount_; }
+  std::uint32_t slotCount() const { return slotCount_; }
+  const gpu::Buffer& pageTables() const { return pageTables_; }
+  const gpu::Buffer& distance() const { return distance_; }
+  const gpu::Buffer& albedo() const { return albedo_; }
+  const gpu::Buffer& emission() const { return emission_; }
+  const gpu::Buffer& params() const { return params_; }
+
+ private:
+  gpu::Context& context_;
+  std::uint32_t cascadeCount_ = 0;
+  std::uint32_t slotCount_ = 0;
+  gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
+  gpu::Buffer staging_;
+};
+
+}  // namespace sdfstream
