@@ -1,15 +1,16 @@
-// The probe update of one probe volume (issue 5 item 2): per probe ray trace + shade, per texel
-// blend. Single definition: probe_trace.comp / probe_blend.comp include it as GLSL and
-// gi/probe_update_cpu.cpp includes it as C++ inside a struct (the CPU reference, STYLE.md habit
-// 9), like sdf_trace.glsl and probe_math.glsl. Same rules: no swizzles, no out parameters,
-// f-suffixed float literals.
+// Per-probe texel math of the probe update (issue 5 item 2): blending one update's rays into the
+// octahedral texels, and bilinear tile reads. Single definition: the probe passes include it as
+// GLSL and gi/probe_field_cpu.cpp includes it as C++ inside a struct (the CPU reference, STYLE.md
+// habit 9), like sdf_trace.glsl and probe_math.glsl. Same rules: no swizzles, no out parameters,
+// f-suffixed float literals. The field-level logic (cascades, scheduling, tracing, sampling) is
+// shaders/probe_field.glsl.
 //
-// The includer first includes shaders/shared/{sdf_layout,probe_layout,color_codec}.h,
-// shaders/sdf_trace.glsl (with SDF_CASCADE defined) and shaders/probe_math.glsl, and defines
+// The includer first includes shaders/shared/{sdf_layout,probe_layout,color_codec}.h and
+// shaders/probe_math.glsl, and defines
 //   PROBE_IRRADIANCE(i) -> vec4 stored irradiance texel i (probeIrradianceIndex)
 //   PROBE_DEPTH(i)      -> vec2 stored depth texel i (sampling functions only)
-//   PROBE_RAY(i)        -> vec4 ray result i = probe * raysPerProbe + ray (blend functions only;
-//                          the trace function needs sdf_trace.glsl's SDF_CASCADE instead)
+//   PROBE_RAY(i)        -> vec4 ray result i (blend functions only): rays of the probe at
+//                          position l of this frame's update list are l * raysPerProbe + ray
 //
 // Storage (storage buffers, no images):
 //   irradiance atlas: probe-major, 8x8 tile texels per probe (probe_layout.h), vec4 each:
@@ -17,8 +18,7 @@
 //   depth atlas: probe-major, 16x16 tile texels per probe, vec2 = (mean, mean²) of ray depth;
 //   ray buffer: vec4 per ray, rgb = radiance (linear), a = depth (probeRayDepth), both in
 //     cascade-0 voxels (not probe spacings), like every distance handed to the GPU.
-// Probe p sits at grid coordinate (p % nx, p / nx % ny, p / (nx ny)) (no scrolling yet: the
-// volume's scroll field is ignored), at originSpacing.xyz + coordinate * spacing.
+// Probe indices here are global (shaders/probe_field.glsl: cascade * probesPerVolume + storage).
 
 #ifndef PROBE_IRRADIANCE
 #error "define PROBE_IRRADIANCE(i) before including probe_update.glsl"
@@ -32,26 +32,6 @@ uint probeIrradianceIndex(uint probe, uvec2 tileTexel) {
 uint probeDepthIndex(uint probe, uvec2 tileTexel) {
   return probe * (kProbeDepthTexels * kProbeDepthTexels) + tileTexel.y * kProbeDepthTexels +
          tileTexel.x;
-}
-
-mat3 probeVolumeRotation(ProbeVolume v) {
-  return mat3(vec3(v.rayRotationCol0), vec3(v.rayRotationCol1), vec3(v.rayRotationCol2));
-}
-
-vec3 probePosition(ProbeVolume v, uint probe) {
-  uint nx = v.countsRays.x;
-  uint ny = v.countsRays.y;
-  vec3 coord = vec3(float(probe % nx), float((probe / nx) % ny), float(probe / (nx * ny)));
-  return vec3(v.originSpacing) + coord * v.originSpacing.w;
-}
-
-// The probe whose grid point is nearest to p (clamped to the grid).
-uint probeNearest(ProbeVolume v, vec3 p) {
-  vec3 g = floor((p - vec3(v.originSpacing)) / v.originSpacing.w + vec3(0.5f));
-  int x = clamp(int(g.x), 0, int(v.countsRays.x) - 1);
-  int y = clamp(int(g.y), 0, int(v.countsRays.y) - 1);
-  int z = clamp(int(g.z), 0, int(v.countsRays.z) - 1);
-  return uint(x) + v.countsRays.x * (uint(y) + v.countsRays.y * uint(z));
 }
 
 // Bilinear read of a probe's irradiance tile in direction d, as a GPU sampler filters the
@@ -82,82 +62,47 @@ vec3 probeSrgbToLinear(vec3 c) {
               probeSrgbChannelToLinear(c.z));
 }
 
-#ifdef SDF_CASCADE
-// Trace and shade ray `ray` of probe `probe`. Returns (radiance rgb, depth), see the header.
-//  - miss (left the stack, or out of steps): sky radiance, depth = v.blend.z (max depth);
-//  - backface hit (SDF gradient along the ray: the probe sits inside geometry): radiance 0,
-//    depth shortened (probeRayDepth) so visibility treats it as a near occluder (M21 Sec. 4.1);
-//  - front hit: Lambertian exit radiance  L = emission + albedo * gain * E(n) / pi,  with E(n)
-//    this volume's current (previous frame's) irradiance of the probe nearest to the hit in the
-//    direction of the hit normal: multi-bounce feedback with bounce gain (issue 5 item 5).
-//    Direct light is not shaded yet (no light cache): emission and sky only.
-vec4 probeTraceRay(ProbeVolume v, ProbeUpdatePushConstants pc, uint probe, uint ray) {
-  uint n = v.countsRays.w;
-  vec3 dir = probeRayDirection(ray, n, probeVolumeRotation(v));
-  vec3 origin = probePosition(v, probe);
-  SdfStackResult s = sdfTraceStack(origin, dir, 0.0f, pc.trace.y, pc.counts.z, pc.trace.x,
-                                   pc.counts.w);
-  float maxDepth = v.blend.z;
-  if (!s.r.hit) return vec4(vec3(pc.skyBounce), maxDepth);
-  vec3 normal = sdfNormal(s.r.position, SDF_CASCADE(s.cascade).toroidal);
-  bool backface = dot(normal, dir) > 0.0f;
-  float depth = probeRayDepth(s.t0, true, backface, maxDepth, v.visibility.z);
-  if (backface) return vec4(0.0f, 0.0f, 0.0f, depth);
-  uint m = s.r.slot * kBrickMaterialCount + s.r.cell;
-  vec3 albedo = probeSrgbToLinear(vec3(unpackAlbedo(SDF_ALBEDO(m))));
-  vec3 emission = unpackRgb9e5(SDF_EMISSION(m));
-  uint nearest = probeNearest(v, origin + dir * s.t0);
-  vec3 irradiance = probeSampleIrradiance(nearest, normal, v.blend.w);
-  return vec4(emission + albedo * irradiance * (pc.skyBounce.w * 0.3183098861837907f), depth);
-}
-
-#endif  // SDF_CASCADE
 
 #ifdef PROBE_RAY
-// Hysteresis of this update: 0 the first time (a reset probe takes the fresh estimate at once),
-// otherwise the volume's, lowered per texel by the change heuristic when asked (M21 Sec. 4.3).
-float probeTexelHysteresis(float hysteresis, bool firstUpdate) {
-  return firstUpdate ? 0.0f : hysteresis;
-}
-
-// New stored value of interior irradiance texel `texel` (0..5 per axis) of `probe`: cosine-
-// weighted mean of this frame's rays (probeIrradianceFromSums), encoded with gamma, blended with
-// the old stored value in encoded space (M21 Eq. 1, Sec. 4.2). No weighted ray: unchanged.
-vec4 probeBlendIrradianceTexel(ProbeVolume v, uint probe, uvec2 texel, vec4 oldStored,
-                               bool adaptive, bool firstUpdate) {
-  uint n = v.countsRays.w;
-  mat3 rotation = probeVolumeRotation(v);
+// New stored value of interior irradiance texel `texel` (0..5 per axis) of a probe whose rays
+// of this update are PROBE_RAY(rayBase + r), r < n, in directions rotation * fibonacci(r, n):
+// cosine-weighted mean (probeIrradianceFromSums), encoded with gamma, blended with the old stored
+// value in encoded space with hysteresis h (M21 Eq. 1, Sec. 4.2); h = 0 for a texel never
+// written; the per-texel change heuristic lowers h when asked (M21 Sec. 4.3). No weighted ray:
+// unchanged.
+vec4 probeBlendIrradianceTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel, vec4 oldStored,
+                               float h, float gamma, bool adaptive) {
   vec3 texelDir = probeTexelDirection(texel, kProbeIrradianceInterior);
   vec4 sums = vec4(0.0f);
   for (uint r = 0u; r < n; ++r) {
-    vec4 result = PROBE_RAY(probe * n + r);
+    vec4 result = PROBE_RAY(rayBase + r);
     float w = probeIrradianceWeight(texelDir, probeRayDirection(r, n, rotation));
     sums += vec4(vec3(result) * w, w);
   }
   if (sums.w <= 0.0f) return oldStored;
-  vec3 fresh = probeEncodeIrradiance(probeIrradianceFromSums(sums), v.blend.w);
+  vec3 fresh = probeEncodeIrradiance(probeIrradianceFromSums(sums), gamma);
   vec3 old = vec3(oldStored);
-  float h = probeTexelHysteresis(v.blend.x, firstUpdate || oldStored.w == 0.0f);
-  if (adaptive && h > 0.0f) h = probeAdjustHysteresis(old, fresh, h);
-  return vec4(probeHysteresisBlend3(old, fresh, h), 1.0f);
+  float hh = oldStored.w == 0.0f ? 0.0f : h;
+  if (adaptive && hh > 0.0f) hh = probeAdjustHysteresis(old, fresh, hh);
+  return vec4(probeHysteresisBlend3(old, fresh, hh), 1.0f);
 }
 
 // New stored (mean, mean²) of interior depth texel `texel` (0..13 per axis): power-cosine
-// weighted (sharpness v.visibility.y) moments of the ray depths, blended with hysteresis.
-vec2 probeBlendDepthTexel(ProbeVolume v, uint probe, uvec2 texel, vec2 oldStored,
-                          bool firstUpdate) {
-  uint n = v.countsRays.w;
-  mat3 rotation = probeVolumeRotation(v);
+// weighted moments of the ray depths, blended with hysteresis h; a texel never written (0, 0)
+// takes the fresh moments (every written texel has a positive mean: depths are > 0).
+vec2 probeBlendDepthTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel, vec2 oldStored,
+                          float h, float sharpness) {
   vec3 texelDir = probeTexelDirection(texel, kProbeDepthInterior);
   vec3 sums = vec3(0.0f);  // w d, w d², w
   for (uint r = 0u; r < n; ++r) {
-    float d = PROBE_RAY(probe * n + r).w;
-    float w = probeDepthWeight(texelDir, probeRayDirection(r, n, rotation), v.visibility.y);
+    float d = PROBE_RAY(rayBase + r).w;
+    float w = probeDepthWeight(texelDir, probeRayDirection(r, n, rotation), sharpness);
     sums += vec3(w * d, w * d * d, w);
   }
   if (sums.z <= 0.0f) return oldStored;
-  vec2 fresh = vec2(sums.x / sums.z, sums.y / sums.z);
-  return probeHysteresisBlend2(oldStored, fresh, probeTexelHysteresis(v.blend.y, firstUpdate));
+  vec2 mean = vec2(sums.x / sums.z, sums.y / sums.z);
+  bool fresh = oldStored.x == 0.0f && oldStored.y == 0.0f;
+  return probeHysteresisBlend2(oldStored, mean, fresh ? 0.0f : h);
 }
 #endif  // PROBE_RAY
 
@@ -179,42 +124,4 @@ vec2 probeSampleDepth(uint probe, vec3 d) {
   return mix(a, b, f.y);
 }
 
-// irradiance(x, n, view) of one volume (M21 Sec. 2.2 and 4.1; H22 Sec. 4.4): the 8 probes of the
-// cage around the biased receiver x + probeSelfShadowBias(n, view, spacing, B), each weighted by
-// backface (wrap) weight x Chebyshev visibility (depth moments towards the biased receiver),
-// crushed below 0.2 (probeCrushWeight), x trilinear weight; the weighted mean of the probes'
-// decoded irradiance in direction n. Receivers outside the grid clamp to its border cage.
-// Units: cascade-0 voxels. Returns 0 when every weight vanishes (cannot happen: backface >= 0.2
-// and Chebyshev > 0, but a cage corner with trilinear weight 0 contributes nothing).
-vec3 probeSampleVolume(ProbeVolume v, vec3 x, vec3 n, vec3 view) {
-  float spacing = v.originSpacing.w;
-  vec3 origin = vec3(v.originSpacing);
-  vec3 biased = x + probeSelfShadowBias(n, view, spacing, v.visibility.x);
-  vec3 g = (biased - origin) / spacing;
-  ivec3 maxBase = ivec3(max(int(v.countsRays.x) - 2, 0), max(int(v.countsRays.y) - 2, 0),
-                        max(int(v.countsRays.z) - 2, 0));
-  ivec3 base = clamp(ivec3(floor(g)), ivec3(0), maxBase);
-  vec3 alpha = clamp(g - vec3(base), vec3(0.0f), vec3(1.0f));
-  vec3 sum = vec3(0.0f);
-  float sumW = 0.0f;
-  for (uint corner = 0u; corner < 8u; ++corner) {
-    ivec3 c = base + ivec3(int(corner & 1u), int((corner >> 1u) & 1u), int((corner >> 2u) & 1u));
-    c = min(c, ivec3(int(v.countsRays.x) - 1, int(v.countsRays.y) - 1, int(v.countsRays.z) - 1));
-    uint probe = uint(c.x) + v.countsRays.x * (uint(c.y) + v.countsRays.y * uint(c.z));
-    vec3 p = origin + vec3(c) * spacing;
-    vec3 toProbe = p - x;
-    float lenToProbe = length(toProbe);
-    vec3 dirToProbe = lenToProbe > 1e-6f ? toProbe / lenToProbe : n;
-    float w = probeBackfaceWeight(dirToProbe, n);
-    vec3 fromProbe = biased - p;
-    float r = length(fromProbe);
-    vec3 dirFromProbe = r > 1e-6f ? fromProbe / r : n;
-    w *= probeChebyshevWeight(probeSampleDepth(probe, dirFromProbe), r, v.visibility.w);
-    w = probeCrushWeight(max(w, 1e-6f), 0.2f);
-    w *= probeTrilinearWeight(alpha, corner);
-    sum += probeSampleIrradiance(probe, n, v.blend.w) * w;
-    sumW += w;
-  }
-  return sumW > 0.0f ? sum / sumW : vec3(0.0f);
-}
 #endif  // PROBE_DEPTH

@@ -228,15 +228,26 @@ struct SdfStackResult {
   bool fellBack;     // a missing page forced a coarser cascade
 };
 
-SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
-                             float hitEpsilon, uint cascadeCount) {
+// As sdfTraceStack, but starting in cascade `firstCascade`: a probe of cascade c traces the
+// detail of its own cascade and coarser ones only (SDFGI slides, "Overview of tracing light":
+// "the ray is sphere traced from the current cascade to upper cascades").
+SdfStackResult sdfTraceStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                                 float hitEpsilon, uint firstCascade, uint cascadeCount) {
   SdfStackResult res;
   res.t0 = -1.0f;
-  res.cascade = 0u;
+  res.cascade = firstCascade;
   res.steps = 0u;
   res.fellBack = false;
+  res.r.t = -1.0f;
+  res.r.position = vec3(0.0f);
+  res.r.slot = 0u;
+  res.r.cell = 0u;
+  res.r.steps = 0u;
+  res.r.hit = false;
+  res.r.ranOutOfSteps = false;
+  res.r.missingData = false;
   float t0 = tMin0;
-  for (uint c = 0u; c < cascadeCount; ++c) {
+  for (uint c = firstCascade; c < cascadeCount; ++c) {
     CascadeTraceParams cp = SDF_CASCADE(c);
     float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
     SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
@@ -262,5 +273,10 @@ SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, u
     }
   }
   return res;
+}
+
+SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                             float hitEpsilon, uint cascadeCount) {
+  return sdfTraceStackFrom(origin0, dir, tMin0, tMax0, maxSteps, hitEpsilon, 0u, cascadeCount);
 }
 #endif  // SDF_CASCADE

@@ -209,6 +209,7 @@ CascadeStackImage CascadeStack::stackImage() const {
     p.toroidal = glm::uvec4(std::uint32_t(o.x) & 15u, std::uint32_t(o.y) & 15u,
                             std::uint32_t(o.z) & 15u, std::uint32_t(c) * layout::kCascadePageCount);
     img.params.push_back(p);
+    img.originBricks.push_back(o);
   }
   return img;
 }

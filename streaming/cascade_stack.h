@@ -34,6 +34,9 @@ struct CascadeStackImage {
   std::vector<gpu_shared::CascadeTraceParams> params;
   glm::dvec3 cascade0MinWorld{0.0};  // world position of cascade 0's minimum corner
   double voxelSize0 = 0.0;           // cascade-0 voxel size (metres)
+  // Window origin of each cascade in its own bricks (world-absolute, so it only changes when the
+  // cascade scrolls); the probe grids scroll with it. Empty for hand-built images: all zero.
+  std::vector<glm::ivec3> originBricks;
 
   // Cascade-0-relative voxel coordinates of a world position (what rays are given in).
   glm::vec3 toStack(const glm::dvec3& world) const {

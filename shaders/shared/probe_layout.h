@@ -12,7 +12,8 @@
 // encoding, Majercik 2021 Sec. 4.2). Depth: 14x14 interior + border = 16x16 texels, RG = mean and
 // mean of the squared ray distance (Majercik 2021 Sec. 2.3), in cascade voxels.
 //
-// Units: positions and distances handed to the GPU are cascade-relative voxels (sdf_layout.h).
+// Units: positions and distances handed to the GPU are cascade-0 voxels relative to cascade 0's
+// minimum corner (sdf_layout.h), like the stack traversal's rays.
 #ifndef SDFSTREAM_PROBE_LAYOUT_H
 #define SDFSTREAM_PROBE_LAYOUT_H
 
@@ -37,37 +38,90 @@ SDF_CONST float kProbeDefaultSelfShadowBias = 0.3f;  // B in Majercik 2021 Eq. 2
 SDF_CONST float kProbeBackfaceDepthScale = 0.2f;     // backface hits: depth shortened by 80% (4.1)
 SDF_CONST float kProbeMinVariance = 1e-4f;           // Chebyshev variance clamp, voxels²
 
+// Probe states (M21 Sec. 5, "probe classification"), stored in ProbeData.w as a float.
+SDF_CONST uint kProbeOff = 0u;       // inside geometry or no surface within its cage: never traced
+SDF_CONST uint kProbeSleeping = 1u;  // converged and unchanged: refreshed every sleepPeriod frames
+SDF_CONST uint kProbeAwake = 2u;     // traced every frame its schedule allows
+SDF_CONST uint kProbeVigilant = 3u;  // just entered, or lights changed: every frame, low hysteresis
+
+// Update priority classes (probe_select.comp): lower is more urgent. The frame's ray budget is
+// filled class by class; the first class that does not fit whole is dropped whole, so the set
+// of traced probes never depends on GPU thread order (identical seeds, identical results).
+SDF_CONST uint kProbeClassCount = 4u;
+SDF_CONST uint kProbeClassNone = 255u;  // not wanted this frame
+
+// Hit cache entry flags (uvec2 per (probe, rotation slot, ray); x = t in cascade-0 voxels as
+// float bits, y = flags | cascade << 2 | octahedral normal (13 + 13 bits) << 6).
+SDF_CONST uint kHitCacheValid = 1u;
+SDF_CONST uint kHitCacheHit = 2u;  // clear: the ray left the stack (sky)
+
 // One probe volume (one per SDF cascade). 16-byte boundaries marked; only vec4/uvec4/ivec4.
+// All volumes share the probe storage buffers: global probe g = cascade * probesPerVolume + s,
+// with s the toroidal storage index of the probe inside its volume.
 struct ProbeVolume {
-  vec4 originSpacing;    // xyz: position of grid probe (0,0,0), cascade voxels; w: spacing (0..15)
+  vec4 originSpacing;    // xyz: logical probe (0,0,0), cascade-0 voxels (this frame);
+                         // w: spacing, cascade-0 voxels                               (0..15)
   uvec4 countsRays;      // xyz: probes per axis; w: rays per probe                     (16..31)
-  ivec4 scroll;          // xyz: toroidal storage offset of probe (0,0,0); w: frame index (32..47)
-  vec4 rayRotationCol0;  // xyz: column 0 of this frame's ray rotation; w unused         (48..63)
-  vec4 rayRotationCol1;  // xyz: column 1                                               (64..79)
-  vec4 rayRotationCol2;  // xyz: column 2                                               (80..95)
+  ivec4 scroll;          // xyz: storage coordinate of logical probe (0,0,0) (toroidal);
+                         // w: cascade index                                            (32..47)
+  ivec4 moved;           // xyz: grid shift since last frame (probes); w: 1 = volume reset (48..63)
+  vec4 rayRotationCol0;  // xyz: column 0 of this frame's ray rotation; w: rotation slot (64..79)
+  vec4 rayRotationCol1;  // xyz: column 1                                              (80..95)
+  vec4 rayRotationCol2;  // xyz: column 2                                              (96..111)
   vec4 blend;            // x: irradiance hysteresis, y: depth hysteresis, z: max ray distance
-                         // (misses record it), w: irradiance gamma                      (96..111)
+                         // (misses record it), w: irradiance gamma                     (112..127)
   vec4 visibility;       // x: self-shadow bias B, y: depth sharpness, z: backface depth scale,
-                         // w: Chebyshev minimum variance                               (112..127)
+                         // w: Chebyshev minimum variance                              (128..143)
+  vec4 prevWindow;       // xyz: this cascade's SDF window min corner last frame, in this
+                         // frame's cascade-0 voxels; w: window edge (cascade-0 voxels) (144..159)
 };
 
-// Push constants of the probe update passes (probe_trace.comp, probe_blend.comp); the per-volume
-// ProbeVolume above travels in a one-element storage buffer (it fills the guaranteed 128 bytes).
+// Per-frame constants of the probe field passes (one-element storage buffer).
+struct ProbeFrame {
+  vec4 skyZenith;        // rgb: sky radiance straight up; w: bounce gain               (0..15)
+  vec4 skyHorizon;       // rgb: sky radiance at/below the horizon; w: voxel size 0 (m) (16..31)
+  vec4 camera;           // xyz: camera, cascade-0 voxels; w: cos(half field of view)   (32..47)
+  vec4 view;             // xyz: unit view direction; w: vigilant hysteresis            (48..63)
+  uvec4 counts;          // x: cascades, y: probes per volume, z: lights, w: ray budget  (64..79)
+  uvec4 options;         // x: kProbeOption* bits, y: frame, z: sleep period, w: trace max steps
+  vec4 trace;            // x: hit epsilon, y: relocation min distance (fraction of spacing),
+                         // z: sleep threshold (relative change), w: rays cap (trace tMax) (96..111)
+  uvec4 selection;       // x: cutoff class (select emit; kProbeClassCount = all), y: list capacity,
+                         // z: rotation slots of the hit cache, w: vigilant frames     (112..127)
+};
+
+SDF_CONST uint kProbeOptionHitCache = 1u;
+SDF_CONST uint kProbeOptionStates = 2u;
+SDF_CONST uint kProbeOptionRelocation = 4u;
+SDF_CONST uint kProbeOptionSdfVisibility = 8u;  // SDFDDGI visibility instead of Chebyshev
+SDF_CONST uint kProbeOptionLightsChanged = 16u;
+SDF_CONST uint kProbeOptionAdaptiveHysteresis = 32u;
+SDF_CONST uint kProbeOptionFirstFrame = 64u;    // reset every probe (first frame, settings)
+SDF_CONST uint kProbeOptionCacheCheck = 128u;   // a window scrolled or pages changed: validate
+
+// Push constants of every probe field pass: which sub-pass, how many threads.
 SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays into interior texels
 SDF_CONST uint kProbeBlendModeBorder = 1u;    // probe_blend.comp: copy border texels
+SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
+SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probes below the cutoff
 SDF_CONST uint kProbeBlendTexelsPerProbe = 232u;  // 6² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 320u;   // 8² irradiance + 16² depth tile texels
 
-struct ProbeUpdatePushConstants {
-  vec4 skyBounce;   // xyz: sky radiance (linear RGB) a miss returns; w: bounce gain (0..1) (0..15)
-  uvec4 counts;     // x: probe count, y: threads of this dispatch, z: trace max steps,
-                    // w: cascade count                                                 (16..31)
-  vec4 trace;       // x: hit epsilon (voxels), y: trace tMax (cascade-0 voxels), z: 1 = adaptive
-                    // hysteresis (M21 Sec. 4.3), w unused                              (32..47)
-  uvec4 mode;       // x: kProbeBlendMode* (probe_blend.comp); yzw unused               (48..63)
+struct ProbePushConstants {
+  uvec4 dispatch;  // x: mode, y: threads of this dispatch, zw unused
 };
 
-// One irradiance query of probe_sample.comp (irradiance(x, n, view) of a volume).
+// Frame statistics (one storage buffer of uints, atomically accumulated on the GPU).
+SDF_CONST uint kProbeStatClassCounts = 0u;  // [0, 4): wanted probes per class
+SDF_CONST uint kProbeStatListCount = 4u;    // probes appended to this frame's update list
+SDF_CONST uint kProbeStatRaysTraced = 5u;   // rays sphere-traced this frame
+SDF_CONST uint kProbeStatRaysCached = 6u;   // rays answered by the hit cache
+SDF_CONST uint kProbeStatSteps = 7u;        // sphere-tracing steps this frame
+SDF_CONST uint kProbeStatStates = 8u;       // [8, 12): probes per state after classify
+SDF_CONST uint kProbeStatCacheInvalidated = 12u;
+SDF_CONST uint kProbeStatCount = 16u;
+
+// One irradiance query of probe_sample.comp (irradiance(x, n, view) of the field).
 struct ProbeQuery {
   vec4 position;  // xyz: receiver, cascade-0 voxels; w unused                         (0..15)
   vec4 normal;    // xyz: unit surface normal; w unused                                (16..31)
@@ -78,13 +132,13 @@ SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sdfstream::gpu_shared::ProbeVolume) == 128);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeVolume) == 160);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, countsRays) == 16);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, scroll) == 32);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 48);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 96);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, visibility) == 112);
-static_assert(sizeof(sdfstream::gpu_shared::ProbeUpdatePushConstants) == 64);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 64);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 112);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, prevWindow) == 144);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 128);
+static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==
               sdfstream::gpu_shared::kProbeIrradianceInterior *

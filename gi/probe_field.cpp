@@ -1,0 +1,173 @@
+#include "gi/probe_field.h"
+
+#include <cstring>
+
+namespace sdfstream::probe {
+namespace {
+using gpu_shared::ProbePushConstants;
+constexpr std::uint32_t kBindings = 20;
+constexpr glm::uvec3 kGroup(64, 1, 1);
+
+gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
+  return gpu::ComputePipeline(ctx, id, gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
+}
+
+gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
+  return gpu::Buffer(ctx, bytes, gpu::BufferKind::DeviceLocal);
+}
+
+// Threads spread over rows of 64 x 16384 (probeInvocation() in probe_bindings.glsl), so every
+// dispatch stays within the 65535 groups per axis Vulkan guarantees.
+glm::uvec3 spread(std::uint32_t threads) {
+  constexpr std::uint32_t kRow = 64u * 16384u;
+  if (threads <= kRow) return {threads, 1, 1};
+  return {kRow, (threads + kRow - 1) / kRow, 1};
+}
+
+template <typename T>
+void writeMapped(gpu::Buffer& buffer, const std::vector<T>& data) {
+  std::memcpy(buffer.mapped(), data.data(), data.size() * sizeof(T));
+}
+}  // namespace
+
+ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings,
+                       std::uint32_t cascades)
+    : context_(context),
+      settings_(settings),
+      cascades_(cascades),
+      sizes_(probeFieldSizes(settings, cascades)),
+      builder_(settings),
+      classify_(pipeline(context, gpu::ShaderId::probe_classify)),
+      select_(pipeline(context, gpu::ShaderId::probe_select)),
+      trace_(pipeline(context, gpu::ShaderId::probe_trace)),
+      blend_(pipeline(context, gpu::ShaderId::probe_blend)),
+      sample_(pipeline(context, gpu::ShaderId::probe_sample)),
+      frame_(context, sizeof(gpu_shared::ProbeFrame), gpu::BufferKind::Upload),
+      volumes_(context, cascades * sizeof(gpu_shared::ProbeVolume), gpu::BufferKind::Upload),
+      data_(deviceBuffer(context, sizes_.probes * 16)),
+      history_(deviceBuffer(context, sizes_.probes * 16)),
+      irradiance_(deviceBuffer(context, sizes_.irradianceTexels * 16)),
+      depth_(deviceBuffer(context, sizes_.depthTexels * 8)),
+      rays_(deviceBuffer(context, sizes_.rays * 16)),
+      cache_(deviceBuffer(context, sizes_.cacheEntries * 8)),
+      rotations_(context, 3 * std::max(1u, settings.cacheRotations) * 16, gpu::BufferKind::Upload),
+      list_(deviceBuffer(context, std::size_t(settings.listCapacity(cascades)) * 4)),
+      statsBuffer_(deviceBuffer(context, gpu_shared::kProbeStatCount * 4)),
+      pageChanged_(context, std::size_t(cascades) * 128 * 4, gpu::BufferKind::Upload),
+      statsReadback_(context, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback),
+      queries_(context, sizeof(gpu_shared::ProbeQuery), gpu::BufferKind::Upload),
+      results_(context, 16, gpu::BufferKind::Readback) {
+  reset();
+}
+
+void ProbeField::reset() {
+  gpu::CommandBatch batch = context_.beginBatch();
+  for (gpu::Buffer* b : {&data_, &history_, &irradiance_, &depth_, &cache_, &list_, &statsBuffer_})
+    batch.fill(*b, 0u);
+  batch.submitAndWait();
+  builder_.reset();
+}
+
+std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
+                                                     const gpu::Buffer& light) {
+  return {&frame_,      &volumes_,          &data_,         &history_,          &irradiance_,
+          &depth_,      &rays_,             &cache_,        &rotations_,        &list_,
+          &statsBuffer_, &pageChanged_,      &scene.pageTables(), &scene.distance(), &scene.albedo(),
+          &scene.emission(), &scene.params(), &light,        &queries_,          &results_};
+}
+
+void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& image,
+                        const gpu::Buffer& light, const ProbeFrameInputs& inputs,
+                        std::uint64_t frame) {
+  lastFrame_ = builder_.build(image, inputs, frame);
+  // The previous update was waited for: the host-visible inputs are free to rewrite.
+  std::memcpy(frame_.mapped(), &lastFrame_.constants, sizeof lastFrame_.constants);
+  writeMapped(volumes_, lastFrame_.volumes);
+  writeMapped(rotations_, lastFrame_.rotations);
+  writeMapped(pageChanged_, lastFrame_.pageChanged);
+
+  const std::vector<const gpu::Buffer*> b = bindings(scene, light);
+  const std::uint32_t probes = std::uint32_t(sizes_.probes);
+  const std::uint32_t capacity = settings_.listCapacity(cascades_);
+  auto push = [](std::uint32_t mode, std::uint32_t threads) {
+    ProbePushConstants pc{};
+    pc.dispatch = glm::uvec4(mode, threads, 0u, 0u);
+    return pc;
+  };
+  const ProbePushConstants classify = push(0, probes);
+  const ProbePushConstants count = push(gpu_shared::kProbeSelectModeCount, probes);
+  const ProbePushConstants emit = push(gpu_shared::kProbeSelectModeEmit, probes);
+  const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
+  const ProbePushConstants interior =
+      push(gpu_shared::kProbeBlendModeInterior, capacity * gpu_shared::kProbeBlendTexelsPerProbe);
+  const ProbePushConstants border =
+      push(gpu_shared::kProbeBlendModeBorder, capacity * gpu_shared::kProbeTileTexelsPerProbe);
+
+  gpu::CommandBatch batch = context_.beginBatch();
+  batch.fill(statsBuffer_, 0u);
+  batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
+  batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));
+  batch.dispatch("probe_select_emit", select_, b, &emit, sizeof emit, spread(probes));
+  // Dispatched for the whole capacity; invocations past the list's length return at once.
+  batch.dispatch("probe_trace", trace_, b, &trace, sizeof trace, spread(trace.dispatch.y));
+  batch.dispatch("probe_blend", blend_, b, &interior, sizeof interior, spread(interior.dispatch.y));
+  batch.dispatch("probe_border", blend_, b, &border, sizeof border, spread(border.dispatch.y));
+  batch.copy(statsBuffer_, statsReadback_, gpu_shared::kProbeStatCount * 4);
+  batch.submitAndWait();
+  timings_ = batch.timings();
+  std::vector<std::uint32_t> raw(gpu_shared::kProbeStatCount);
+  std::memcpy(raw.data(), statsReadback_.mapped(), raw.size() * 4);
+  stats_ = decodeStats(raw);
+}
+
+std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu::Buffer& light,
+                                          std::span<const gpu_shared::ProbeQuery> queries) {
+  if (queries.empty()) return {};
+  const std::size_t qBytes = queries.size() * sizeof(gpu_shared::ProbeQuery);
+  const std::size_t rBytes = queries.size() * sizeof(glm::vec4);
+  if (queries_.size() < qBytes) queries_ = gpu::Buffer(context_, qBytes, gpu::BufferKind::Upload);
+  if (results_.size() < rBytes) results_ = gpu::Buffer(context_, rBytes, gpu::BufferKind::Readback);
+  // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
+  std::memcpy(queries_.mapped(), queries.data(), qBytes);
+  ProbePushConstants pc{};
+  pc.dispatch = glm::uvec4(0u, std::uint32_t(queries.size()), 0u, 0u);
+  gpu::CommandBatch batch = context_.beginBatch();
+  batch.dispatch("probe_sample", sample_, bindings(scene, light), &pc, sizeof pc,
+                 spread(pc.dispatch.y));
+  batch.submitAndWait();
+  timings_ = batch.timings();
+  std::vector<glm::vec3> out(queries.size());
+  const auto* r = static_cast<const glm::vec4*>(results_.mapped());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
+  return out;
+}
+
+double ProbeField::lastMilliseconds() const {
+  double ms = 0.0;
+  for (const auto& t : timings_) ms += t.milliseconds;
+  return ms;
+}
+
+namespace {
+template <typename T>
+std::vector<T> download(const gpu::Buffer& b, std::size_t count) {
+  std::vector<T> out(count);
+  b.download(out.data(), count * sizeof(T));
+  return out;
+}
+}  // namespace
+
+std::vector<glm::vec4> ProbeField::downloadIrradiance() const {
+  return download<glm::vec4>(irradiance_, sizes_.irradianceTexels);
+}
+std::vector<glm::vec2> ProbeField::downloadDepth() const {
+  return download<glm::vec2>(depth_, sizes_.depthTexels);
+}
+std::vector<glm::vec4> ProbeField::downloadProbeData() const {
+  return download<glm::vec4>(data_, sizes_.probes);
+}
+std::vector<glm::uvec2> ProbeField::downloadHitCache() const {
+  return download<glm::uvec2>(cache_, sizes_.cacheEntries);
+}
+
+}  // namespace sdfstream::probe

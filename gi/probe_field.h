@@ -1,0 +1,71 @@
+// The probe field on the GPU (issue 5): one DDGI probe volume per SDF cascade, updated each
+// frame by compute passes over storage buffers --
+//   classify (scroll reset, SDF relocation, states, hit-cache invalidation; every probe)
+//   -> select (count per priority class, then append within the ray budget)
+//   -> trace + shade (hit cache, else sphere tracing through the stack; light cache + previous
+//      irradiance at hits; sky at misses) -> blend interior texels -> copy borders
+// and irradiance(x, n, view) queries across cascades (probe_sample.comp). The math is
+// shaders/probe_field.glsl; gi/probe_field_cpu.h is the CPU reference of the same passes.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gi/gpu_stack_scene.h"
+#include "gi/probe_field_cpu.h"
+#include "gpu/buffer.h"
+#include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
+
+namespace sdfstream::probe {
+
+class ProbeField {
+ public:
+  // Allocates every buffer (probeFieldSizes(settings, cascades).bytes() of device memory).
+  ProbeField(gpu::Context& context, const ProbeFieldSettings& settings, std::uint32_t cascades);
+
+  // One frame: `scene` holds the stack the image describes (already synced), `lightRadiance`
+  // the light cache (gi/light_cache.h). Blocking; reads back the frame statistics.
+  void update(const GpuStackScene& scene, const CascadeStackImage& image,
+              const gpu::Buffer& lightRadiance, const ProbeFrameInputs& inputs,
+              std::uint64_t frame);
+  void reset();
+
+  // irradiance(x, n, view) of the current probes at each query; blocking.
+  std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
+                                std::span<const gpu_shared::ProbeQuery> queries);
+
+  const ProbeFieldSettings& settings() const { return settings_; }
+  const ProbeFieldStats& lastStats() const { return stats_; }
+  // GPU time per pass of the last update() or sample(): probe_classify, probe_select_count,
+  // probe_select_emit, probe_trace, probe_blend, probe_border / probe_sample.
+  const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
+  double lastMilliseconds() const;
+  std::size_t deviceBytes() const { return sizes_.bytes(); }
+
+  std::vector<glm::vec4> downloadIrradiance() const;
+  std::vector<glm::vec2> downloadDepth() const;
+  std::vector<glm::vec4> downloadProbeData() const;
+  std::vector<glm::uvec2> downloadHitCache() const;
+
+ private:
+  std::vector<const gpu::Buffer*> bindings(const GpuStackScene& scene,
+                                           const gpu::Buffer& lightRadiance);
+
+  gpu::Context& context_;
+  ProbeFieldSettings settings_;
+  std::uint32_t cascades_;
+  ProbeFieldSizes sizes_;
+  ProbeFieldFrameBuilder builder_;
+  ProbeFieldFrame lastFrame_;
+  gpu::ComputePipeline classify_, select_, trace_, blend_, sample_;
+  gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
+      list_, statsBuffer_, pageChanged_, statsReadback_;
+  gpu::Buffer queries_, results_;
+  ProbeFieldStats stats_;
+  std::vector<gpu::PassTiming> timings_;
+};
+
+}  // namespace sdfstream::probe

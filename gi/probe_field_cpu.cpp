@@ -1,0 +1,219 @@
+#include "gi/probe_field_cpu.h"
+
+#include <atomic>
+#include <cassert>
+
+#include <tbb/parallel_for.h>
+
+#include <glm/gtc/packing.hpp>
+
+#include "shaders/shared/color_codec.h"
+#include "shaders/shared/sdf_layout.h"
+
+namespace sdfstream::probe {
+namespace field_detail {
+using namespace glm;
+using namespace gpu_shared;
+using gpu_shared::ProbeVolume;
+
+inline float uintBitsToFloat(std::uint32_t u) { return glm::uintBitsToFloat(u); }
+inline std::uint32_t floatBitsToUint(float f) { return glm::floatBitsToUint(f); }
+
+// The GLSL becomes member functions; the macros read and write this object's pointers (the
+// CascadeStackImage and the ProbeFieldCpu's storage).
+struct FieldPasses {
+  const std::uint32_t* pageTable = nullptr;
+  const std::uint32_t* distanceAtlas = nullptr;
+  const std::uint32_t* albedoAtlas = nullptr;
+  const std::uint32_t* emissionAtlas = nullptr;
+  const CascadeTraceParams* cascades = nullptr;
+  const std::uint32_t* lightRadiance = nullptr;
+  const ProbeVolume* volumes = nullptr;
+  const glm::vec4* rotations = nullptr;
+  const std::uint32_t* pageChanged = nullptr;
+  glm::vec4* irradiance = nullptr;
+  glm::vec2* depthTexels = nullptr;
+  glm::vec4* rays = nullptr;
+  glm::vec4* probeData = nullptr;
+  glm::uvec4* history = nullptr;
+  glm::uvec2* hitCache = nullptr;
+  std::uint32_t* updateList = nullptr;
+  std::uint32_t* stats = nullptr;
+
+  std::uint32_t statAdd(std::uint32_t i, std::uint32_t v) {
+    return std::atomic_ref<std::uint32_t>(stats[i]).fetch_add(v);
+  }
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#include "shaders/sdf_trace.glsl"
+#include "shaders/probe_math.glsl"
+#include "shaders/light_math.glsl"
+#define PROBE_IRRADIANCE(i) irradiance[i]
+#define PROBE_DEPTH(i) depthTexels[i]
+#define PROBE_RAY(i) rays[i]
+#include "shaders/probe_update.glsl"
+#define PROBE_VOLUME(c) volumes[c]
+#define PROBE_DATA(g) probeData[g]
+#define PROBE_HISTORY(g) history[g]
+#define PROBE_CACHE(i) hitCache[i]
+#define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
+#define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
+#define LIGHT_RADIANCE(m) lightRadiance[m]
+#define PROBE_LIST(i) updateList[i]
+#define PROBE_STAT(i) stats[i]
+#define PROBE_STAT_ADD(i, v) statAdd(i, v)
+#include "shaders/probe_field.glsl"
+#undef SDF_PAGE
+#undef SDF_DIST_WORD
+#undef SDF_ALBEDO
+#undef SDF_EMISSION
+#undef SDF_CASCADE
+#undef PROBE_IRRADIANCE
+#undef PROBE_DEPTH
+#undef PROBE_RAY
+#undef PROBE_VOLUME
+#undef PROBE_DATA
+#undef PROBE_HISTORY
+#undef PROBE_CACHE
+#undef PROBE_ROTATION
+#undef PROBE_PAGE_CHANGED
+#undef LIGHT_RADIANCE
+#undef PROBE_LIST
+#undef PROBE_STAT
+#undef PROBE_STAT_ADD
+};
+}  // namespace field_detail
+
+std::size_t ProbeFieldSizes::bytes() const {
+  return probes * (16 + 16) + irradianceTexels * 16 + depthTexels * 8 + rays * 16 +
+         cacheEntries * 8;
+}
+
+ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades) {
+  ProbeFieldSizes z;
+  z.probes = std::size_t(cascades) * s.probesPerVolume();
+  z.irradianceTexels = z.probes * gpu_shared::kProbeIrradianceTexels * gpu_shared::kProbeIrradianceTexels;
+  z.depthTexels = z.probes * gpu_shared::kProbeDepthTexels * gpu_shared::kProbeDepthTexels;
+  z.rays = std::size_t(s.listCapacity(cascades)) * s.raysPerProbe;
+  z.cacheEntries = s.hitCache ? z.probes * s.cacheRotations * s.raysPerProbe : 1;
+  return z;
+}
+
+ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw) {
+  using namespace gpu_shared;
+  assert(raw.size() >= kProbeStatCount);
+  ProbeFieldStats s;
+  for (std::uint32_t c = 0; c < kProbeClassCount; ++c) s.classCounts[c] = raw[kProbeStatClassCounts + c];
+  s.probesUpdated = raw[kProbeStatListCount];
+  s.raysTraced = raw[kProbeStatRaysTraced];
+  s.raysCached = raw[kProbeStatRaysCached];
+  s.steps = raw[kProbeStatSteps];
+  for (int i = 0; i < 4; ++i) s.states[i] = raw[kProbeStatStates + i];
+  s.cacheInvalidated = raw[kProbeStatCacheInvalidated];
+  return s;
+}
+
+ProbeFieldCpu::ProbeFieldCpu(const ProbeFieldSettings& settings, std::uint32_t cascades)
+    : settings_(settings), cascades_(cascades), builder_(settings) {
+  reset();
+}
+
+void ProbeFieldCpu::reset() {
+  const ProbeFieldSizes z = probeFieldSizes(settings_, cascades_);
+  data_.assign(z.probes, glm::vec4(0.0f));
+  history_.assign(z.probes, glm::uvec4(0u));
+  irradiance_.assign(z.irradianceTexels, glm::vec4(0.0f));
+  depth_.assign(z.depthTexels, glm::vec2(0.0f));
+  rays_.assign(z.rays, glm::vec4(0.0f));
+  cache_.assign(z.cacheEntries, glm::uvec2(0u));
+  list_.assign(settings_.listCapacity(cascades_), 0u);
+  rawStats_.assign(gpu_shared::kProbeStatCount, 0u);
+  builder_.reset();
+}
+
+void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::uint32_t> light,
+                           const ProbeFrameInputs& inputs, std::uint64_t frame) {
+  assert(stack.params.size() == cascades_);
+  frame_ = builder_.build(stack, inputs, frame);
+  const gpu_shared::ProbeFrame& f = frame_.constants;
+  std::fill(rawStats_.begin(), rawStats_.end(), 0u);
+  field_detail::FieldPasses base;
+  base.pageTable = stack.pageTables.data();
+  base.distanceAtlas = stack.distanceAtlas->data();
+  base.albedoAtlas = stack.albedoAtlas->data();
+  base.emissionAtlas = stack.emissionAtlas->data();
+  base.cascades = stack.params.data();
+  base.lightRadiance = light.data();
+  base.volumes = frame_.volumes.data();
+  base.rotations = frame_.rotations.data();
+  base.pageChanged = frame_.pageChanged.data();
+  base.irradiance = irradiance_.data();
+  base.depthTexels = depth_.data();
+  base.rays = rays_.data();
+  base.probeData = data_.data();
+  base.history = history_.data();
+  base.hitCache = cache_.data();
+  base.updateList = list_.data();
+  base.stats = rawStats_.data();
+  const std::uint32_t probes = std::uint32_t(data_.size());
+
+  // Classify (probe_classify.comp): each probe touches only its own data.
+  tbb::parallel_for(std::uint32_t(0), probes, [&](std::uint32_t g) {
+    auto local = base;
+    local.probeClassifyPass(f, g);
+  });
+  // Select (probe_select.comp): count, then emit. Serial emit in probe order: the GPU's list
+  // order differs, but each probe's results do not depend on its list position.
+  tbb::parallel_for(std::uint32_t(0), probes, [&](std::uint32_t g) {
+    auto local = base;
+    local.probeSelectPass(f, g, gpu_shared::kProbeSelectModeCount);
+  });
+  for (std::uint32_t g = 0; g < probes; ++g) base.probeSelectPass(f, g, gpu_shared::kProbeSelectModeEmit);
+  const std::uint32_t listed = std::min(rawStats_[gpu_shared::kProbeStatListCount], f.selection.y);
+  const std::uint32_t n = settings_.raysPerProbe;
+  // Trace + shade (probe_trace.comp).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::size_t(listed) * n, 64), [&](auto r) {
+    auto local = base;
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      local.probeTracePass(f, std::uint32_t(i / n), std::uint32_t(i % n));
+  });
+  // Blend, then borders (probe_blend.comp, two dispatches).
+  tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
+    auto local = base;
+    for (std::uint32_t t = 0; t < gpu_shared::kProbeBlendTexelsPerProbe; ++t) local.probeBlendPass(f, l, t);
+  });
+  tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
+    auto local = base;
+    for (std::uint32_t t = 0; t < gpu_shared::kProbeTileTexelsPerProbe; ++t) local.probeBorderPass(l, t);
+  });
+  stats_ = decodeStats(rawStats_);
+}
+
+std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
+                                             std::span<const gpu_shared::ProbeQuery> queries) const {
+  field_detail::FieldPasses base;
+  base.pageTable = stack.pageTables.data();
+  base.distanceAtlas = stack.distanceAtlas->data();
+  base.albedoAtlas = stack.albedoAtlas->data();
+  base.emissionAtlas = stack.emissionAtlas->data();
+  base.cascades = stack.params.data();
+  base.volumes = frame_.volumes.data();
+  // Sampling only reads; the pointers are non-const because the pass structs also write.
+  base.irradiance = const_cast<glm::vec4*>(irradiance_.data());
+  base.depthTexels = const_cast<glm::vec2*>(depth_.data());
+  base.probeData = const_cast<glm::vec4*>(data_.data());
+  std::vector<glm::vec3> out(queries.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64), [&](auto r) {
+    auto local = base;
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      out[i] = local.probeFieldIrradiance(frame_.constants, glm::vec3(queries[i].position),
+                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view), true);
+  });
+  return out;
+}
+
+}  // namespace sdfstream::probe

@@ -1,0 +1,80 @@
+// CPU reference of the probe field (gi/probe_field.h): the same passes in the same order --
+// classify, select (count, emit), trace + shade, blend, borders -- running the very same math
+// (gi/probe_field_cpu.cpp includes shaders/probe_field.glsl as C++), and the storage layouts the
+// GPU uses, so tests compare them texel by texel. Also the storage sizes both share.
+//
+// Not thread-safe; update() itself runs in parallel (TBB). Memory: see probeFieldBytes().
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gi/probe_field_frame.h"
+
+namespace sdfstream::probe {
+
+// Element counts of the field's storage for `cascades` volumes.
+struct ProbeFieldSizes {
+  std::size_t probes = 0;           // volumes x probes per volume
+  std::size_t irradianceTexels = 0; // vec4 each
+  std::size_t depthTexels = 0;      // vec2 each
+  std::size_t rays = 0;             // vec4 each (list capacity x rays per probe)
+  std::size_t cacheEntries = 0;     // uvec2 each (probes x rotations x rays; 1 when off)
+  std::size_t bytes() const;
+};
+ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades);
+
+// The frame's statistics (kProbeStat* of probe_layout.h).
+struct ProbeFieldStats {
+  std::uint32_t classCounts[gpu_shared::kProbeClassCount] = {};
+  std::uint32_t probesUpdated = 0;
+  std::uint32_t raysTraced = 0;
+  std::uint32_t raysCached = 0;
+  std::uint64_t steps = 0;
+  std::uint32_t states[4] = {};  // off, sleeping, awake, vigilant
+  std::uint32_t cacheInvalidated = 0;
+};
+ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw);
+
+class ProbeFieldCpu {
+ public:
+  ProbeFieldCpu(const ProbeFieldSettings& settings, std::uint32_t cascades);
+
+  // One frame against `stack`, with `lightRadiance` the light cache (one RGB9E5 per atlas
+  // material voxel, gi/light_cache.h).
+  void update(const CascadeStackImage& stack, std::span<const std::uint32_t> lightRadiance,
+              const ProbeFrameInputs& inputs, std::uint64_t frame);
+  void reset();
+
+  // irradiance(x, n, view) of the current probes (probeFieldIrradiance), parallel over queries.
+  std::vector<glm::vec3> sample(const CascadeStackImage& stack,
+                                std::span<const gpu_shared::ProbeQuery> queries) const;
+
+  const ProbeFieldSettings& settings() const { return settings_; }
+  const ProbeFieldStats& lastStats() const { return stats_; }
+  std::span<const glm::vec4> irradiance() const { return irradiance_; }
+  std::span<const glm::vec2> depth() const { return depth_; }
+  std::span<const glm::vec4> probeData() const { return data_; }
+  std::span<const glm::uvec2> hitCache() const { return cache_; }
+  const ProbeFieldFrame& lastFrame() const { return frame_; }
+
+ private:
+  ProbeFieldSettings settings_;
+  std::uint32_t cascades_;
+  ProbeFieldFrameBuilder builder_;
+  ProbeFieldFrame frame_;
+  std::vector<glm::vec4> data_;
+  std::vector<glm::uvec4> history_;
+  std::vector<glm::vec4> irradiance_;
+  std::vector<glm::vec2> depth_;
+  std::vector<glm::vec4> rays_;
+  std::vector<glm::uvec2> cache_;
+  std::vector<std::uint32_t> list_;
+  std::vector<std::uint32_t> rawStats_;
+  ProbeFieldStats stats_;
+};
+
+}  // namespace sdfstream::probe

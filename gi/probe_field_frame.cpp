@@ -1,0 +1,120 @@
+#include "gi/probe_field_frame.h"
+
+#include <cassert>
+#include <cmath>
+
+#include "gi/probe_math.h"
+
+namespace sdfstream::probe {
+namespace {
+int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int floorMod(int a, int b) { return a - floorDiv(a, b) * b; }
+}  // namespace
+
+std::uint32_t ProbeFieldSettings::listCapacity(std::uint32_t cascades) const {
+  return std::min(cascades * probesPerVolume(), std::max(1u, rayBudget / std::max(1u, raysPerProbe)));
+}
+
+ProbeFieldFrameBuilder::ProbeFieldFrameBuilder(const ProbeFieldSettings& settings)
+    : settings_(settings) {
+  assert(settings.spacingBricks == 1 || settings.spacingBricks == 2 || settings.spacingBricks == 4);
+}
+
+void ProbeFieldFrameBuilder::reset() { first_ = true; }
+
+ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
+                                              const ProbeFrameInputs& in, std::uint64_t frame) {
+  const ProbeFieldSettings& s = settings_;
+  const std::uint32_t cascades = std::uint32_t(stack.params.size());
+  const glm::uvec3 n = s.grid();
+  if (gridOrigins_.size() != cascades) first_ = true;
+  ProbeFieldFrame out;
+  bool anyMoved = false;
+
+  // Hit-cache rotations: a fixed cycle, so a ray index of a rotation slot always has the same
+  // direction and its cached hit stays meaningful; without the cache, a fresh rotation per frame.
+  const std::uint32_t slots = s.hitCache ? std::max(1u, s.cacheRotations) : 1u;
+  const std::uint64_t mix = s.rotationSeed * 0x9E3779B97F4A7C15ull;
+  for (std::uint32_t r = 0; r < slots; ++r) {
+    const glm::mat3 m = randomRotation(mix + r);
+    for (int k = 0; k < 3; ++k) out.rotations.push_back(glm::vec4(m[k], 0.0f));
+  }
+  const std::uint32_t slot = s.hitCache ? std::uint32_t(frame % slots) : 0u;
+  const glm::mat3 rotation = s.hitCache ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
+
+  std::vector<glm::ivec3> gridOrigins(cascades);
+  std::vector<glm::dvec3> windowWorld(cascades);
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    const gpu_shared::CascadeTraceParams& p = stack.params[c];
+    const float scale = p.offsetScale.w;
+    const glm::ivec3 originBrick = c < stack.originBricks.size() ? stack.originBricks[c] : glm::ivec3(0);
+    const int sb = int(s.spacingBricks);
+    const glm::ivec3 grid(floorDiv(originBrick.x, sb), floorDiv(originBrick.y, sb),
+                          floorDiv(originBrick.z, sb));
+    gridOrigins[c] = grid;
+    const glm::vec3 window(p.offsetScale);
+    windowWorld[c] = stack.cascade0MinWorld + glm::dvec3(window) * stack.voxelSize0;
+    const float spacing = 8.0f * float(sb) * scale;
+
+    gpu_shared::ProbeVolume v{};
+    v.originSpacing = glm::vec4(window + glm::vec3(grid * sb - originBrick) * (8.0f * scale), spacing);
+    v.countsRays = glm::uvec4(n, s.raysPerProbe);
+    v.scroll = glm::ivec4(floorMod(grid.x, int(n.x)), floorMod(grid.y, int(n.y)),
+                          floorMod(grid.z, int(n.z)), int(c));
+    glm::ivec3 moved(0);
+    int reset = first_ ? 1 : 0;
+    if (!first_) {
+      moved = grid - gridOrigins_[c];
+      if (glm::any(glm::greaterThanEqual(glm::abs(moved), glm::ivec3(n)))) reset = 1;
+    }
+    v.moved = glm::ivec4(moved, reset);
+    v.rayRotationCol0 = glm::vec4(rotation[0], float(slot));
+    v.rayRotationCol1 = glm::vec4(rotation[1], 0.0f);
+    v.rayRotationCol2 = glm::vec4(rotation[2], 0.0f);
+    v.blend = glm::vec4(s.irradianceHysteresis, s.depthHysteresis, s.maxDepthSpacings * spacing,
+                        s.irradianceGamma);
+    v.visibility = glm::vec4(s.selfShadowBias, s.depthSharpness, s.backfaceDepthScale, s.minVariance);
+    const glm::dvec3 prev = first_ ? windowWorld[c] : windowWorld_[c];
+    const glm::vec3 prevWindow((prev - stack.cascade0MinWorld) / stack.voxelSize0);
+    v.prevWindow = glm::vec4(prevWindow, 128.0f * scale);
+    if (prevWindow != window) anyMoved = true;
+    out.volumes.push_back(v);
+  }
+
+  out.pageChanged.assign(std::size_t(cascades) * 128, 0u);
+  bool anyPageChanged = false;
+  for (std::size_t i = 0; i < stack.pageTables.size(); ++i)
+    if (first_ || pageTables_.size() != stack.pageTables.size() || pageTables_[i] != stack.pageTables[i]) {
+      out.pageChanged[i >> 5] |= 1u << (i & 31u);
+      anyPageChanged = true;
+    }
+
+  gpu_shared::ProbeFrame& f = out.constants;
+  f.skyZenith = glm::vec4(glm::vec3(in.sky.zenith), s.bounceGain);
+  f.skyHorizon = glm::vec4(glm::vec3(in.sky.horizon), float(stack.voxelSize0));
+  const float cosCone = std::cos(s.viewConeDegrees * 3.14159265f / 180.0f);
+  f.camera = glm::vec4(stack.toStack(in.cameraWorld), cosCone);
+  const float len = glm::length(in.viewDirection);
+  f.view = glm::vec4(len > 0.0f ? in.viewDirection / len : glm::vec3(0, 0, -1), s.vigilantHysteresis);
+  f.counts = glm::uvec4(cascades, s.probesPerVolume(), 0u, s.rayBudget);
+  std::uint32_t options = 0;
+  if (s.hitCache) options |= gpu_shared::kProbeOptionHitCache;
+  if (s.states) options |= gpu_shared::kProbeOptionStates;
+  if (s.relocation) options |= gpu_shared::kProbeOptionRelocation;
+  if (s.sdfVisibility) options |= gpu_shared::kProbeOptionSdfVisibility;
+  if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
+  if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
+  if (first_) options |= gpu_shared::kProbeOptionFirstFrame;
+  if (anyMoved || anyPageChanged) options |= gpu_shared::kProbeOptionCacheCheck;
+  f.options = glm::uvec4(options, std::uint32_t(frame), s.sleepPeriod, s.maxSteps);
+  f.trace = glm::vec4(s.hitEpsilon, s.relocationMinDistance, s.sleepThreshold, s.traceDistance);
+  f.selection = glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots, s.vigilantFrames);
+
+  gridOrigins_ = std::move(gridOrigins);
+  windowWorld_ = std::move(windowWorld);
+  pageTables_ = stack.pageTables;
+  first_ = false;
+  return out;
+}
+
+}  // namespace sdfstream::probe

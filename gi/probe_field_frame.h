@@ -1,0 +1,94 @@
+// Settings of the probe field (one DDGI volume per SDF cascade) and the per-frame constants both
+// its GPU passes (gi/probe_field.h) and its CPU reference (gi/probe_field_cpu.h) run on: this
+// file is where scrolling is decided (each volume's grid follows its cascade window in whole
+// probe spacings, stored toroidally), which hit-cache rotation a frame uses, and which pages
+// changed since the previous frame.
+//
+// Units: cascade-0 voxels relative to cascade 0's minimum corner (CascadeStackImage::toStack).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "shaders/shared/light_layout.h"
+#include "shaders/shared/probe_layout.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream::probe {
+
+struct ProbeFieldSettings {
+  std::uint32_t spacingBricks = 1;  // probe spacing in bricks of its cascade: 1, 2 or 4 (grid
+                                    // 17³, 9³ or 5³ per cascade; SDFGI slides: 17³ per 128³)
+  std::uint32_t raysPerProbe = gpu_shared::kProbeDefaultRays;
+  float irradianceHysteresis = gpu_shared::kProbeDefaultHysteresis;
+  float depthHysteresis = gpu_shared::kProbeDefaultHysteresis;
+  float vigilantHysteresis = 0.5f;  // new probes and probes after a light change (M21 Sec. 5)
+  std::uint32_t vigilantFrames = 8;
+  bool adaptiveHysteresis = true;   // per-texel change heuristic (M21 Sec. 4.3)
+  float maxDepthSpacings = 2.0f * 1.7320508f;  // depth a miss records, in probe spacings
+  float irradianceGamma = gpu_shared::kProbeIrradianceGamma;
+  float depthSharpness = gpu_shared::kProbeDepthSharpness;
+  float selfShadowBias = gpu_shared::kProbeDefaultSelfShadowBias;
+  float backfaceDepthScale = gpu_shared::kProbeBackfaceDepthScale;
+  float minVariance = gpu_shared::kProbeMinVariance;
+  float bounceGain = 1.0f;          // multi-bounce feedback (issue 5 item 5)
+  std::uint32_t maxSteps = 256;     // sphere-tracing iterations per ray, all cascades together
+  float hitEpsilon = 0.02f;         // voxels of the cascade being traced
+  float traceDistance = 1e30f;      // probe ray tMax, cascade-0 voxels
+  std::uint64_t rotationSeed = 1;
+  bool hitCache = true;             // GS "Caching rays"
+  std::uint32_t cacheRotations = 4; // ray rotations cycled when the cache is on (memory: probes
+                                    // x rays x rotations x 8 bytes)
+  bool states = true;               // M21 Sec. 5 probe states
+  std::uint32_t sleepPeriod = 8;    // sleeping probes refresh every this many frames
+  float sleepThreshold = 0.02f;     // relative mean change below which an update is "quiet"
+  bool relocation = true;           // SDFDDGI Sec. 4.1
+  float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
+  bool sdfVisibility = false;       // SDFDDGI visibility instead of Chebyshev when sampling
+  std::uint32_t rayBudget = 1u << 21;  // rays per frame (all cascades)
+  float viewConeDegrees = 60.0f;    // half-angle of the cone counted as "in view"
+
+  glm::uvec3 grid() const { return glm::uvec3(16u / spacingBricks + 1u); }
+  std::uint32_t probesPerVolume() const {
+    const glm::uvec3 g = grid();
+    return g.x * g.y * g.z;
+  }
+  // Probes per frame the ray budget allows (at most every probe of `cascades` volumes).
+  std::uint32_t listCapacity(std::uint32_t cascades) const;
+};
+
+// What the caller knows about a frame besides the stack.
+struct ProbeFrameInputs {
+  glm::dvec3 cameraWorld{0.0};
+  glm::vec3 viewDirection{0.0f, 0.0f, -1.0f};
+  gpu_shared::GpuSky sky{};
+  bool lightsChanged = false;  // wakes every probe (vigilant) for vigilantFrames
+};
+
+// Everything the passes read for one frame.
+struct ProbeFieldFrame {
+  gpu_shared::ProbeFrame constants{};
+  std::vector<gpu_shared::ProbeVolume> volumes;
+  std::vector<std::uint32_t> pageChanged;  // cascades x 128 words: bit i = entry i changed
+  std::vector<glm::vec4> rotations;        // cacheRotations x 3 columns
+};
+
+// Builds successive frames; remembers the previous frame's windows and page tables.
+class ProbeFieldFrameBuilder {
+ public:
+  explicit ProbeFieldFrameBuilder(const ProbeFieldSettings& settings);
+  ProbeFieldFrame build(const CascadeStackImage& stack, const ProbeFrameInputs& in,
+                        std::uint64_t frame);
+  void reset();  // next frame resets every probe
+
+ private:
+  ProbeFieldSettings settings_;
+  bool first_ = true;
+  std::vector<glm::ivec3> gridOrigins_;    // per cascade, in probe spacings (world-absolute)
+  std::vector<glm::dvec3> windowWorld_;    // per cascade, min corner in metres
+  std::vector<std::uint32_t> pageTables_;  // previous frame
+};
+
+}  // namespace sdfstream::probe

@@ -1,0 +1,68 @@
+// The bindings every probe field pass shares (push descriptors: one buffer list for all of
+// them, gi/probe_field.cpp), the storage macros shaders/probe_field.glsl expects, and the shared
+// math, included in dependency order. GLSL only; the C++ reference is gi/probe_field_cpu.cpp.
+#extension GL_GOOGLE_include_directive : require
+
+#include "shaders/shared/sdf_layout.h"
+#include "shaders/shared/probe_layout.h"
+#include "shaders/shared/light_layout.h"
+#include "shaders/shared/color_codec.h"
+
+layout(std430, binding = 0) readonly buffer Frame { ProbeFrame frame; };
+layout(std430, binding = 1) readonly buffer Volumes { ProbeVolume volumes[]; };
+layout(std430, binding = 2) buffer ProbeDataBuffer { vec4 probeData[]; };
+layout(std430, binding = 3) buffer History { uvec4 history[]; };
+layout(std430, binding = 4) buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 5) buffer Depth { vec2 depth[]; };
+layout(std430, binding = 6) buffer Rays { vec4 rays[]; };
+layout(std430, binding = 7) buffer HitCache { uvec2 hitCache[]; };
+layout(std430, binding = 8) readonly buffer Rotations { vec4 rotations[]; };
+layout(std430, binding = 9) buffer UpdateList { uint updateList[]; };
+layout(std430, binding = 10) buffer Stats { uint stats[]; };
+layout(std430, binding = 11) readonly buffer PageChanged { uint pageChanged[]; };
+layout(std430, binding = 12) readonly buffer PageTable { uint pageTable[]; };
+layout(std430, binding = 13) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
+layout(std430, binding = 14) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
+layout(std430, binding = 15) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
+layout(std430, binding = 16) readonly buffer Cascades { CascadeTraceParams cascades[]; };
+layout(std430, binding = 17) readonly buffer LightRadiance { uint lightRadiance[]; };
+layout(std430, binding = 18) readonly buffer Queries { ProbeQuery queries[]; };
+layout(std430, binding = 19) writeonly buffer Results { vec4 results[]; };
+
+layout(push_constant) uniform Push { ProbePushConstants pc; };
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#include "shaders/sdf_trace.glsl"
+#include "shaders/probe_math.glsl"
+#include "shaders/light_math.glsl"
+#define PROBE_IRRADIANCE(i) irradiance[i]
+#define PROBE_DEPTH(i) depth[i]
+#define PROBE_RAY(i) rays[i]
+#include "shaders/probe_update.glsl"
+#define PROBE_VOLUME(c) volumes[c]
+#define PROBE_DATA(g) probeData[g]
+#define PROBE_HISTORY(g) history[g]
+#define PROBE_CACHE(i) hitCache[i]
+#define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
+#define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
+#define LIGHT_RADIANCE(m) lightRadiance[m]
+#define PROBE_LIST(i) updateList[i]
+#define PROBE_STAT(i) stats[i]
+#define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)
+#include "shaders/probe_field.glsl"
+
+layout(local_size_x = 64) in;
+
+// Linear invocation index: large dispatches are spread over y (64 x 16384 threads per row).
+uint probeInvocation() {
+  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
+}
+
+// Threads of this dispatch that have work: list-driven passes stop at the list's length.
+uint probeListLength() {
+  return min(stats[kProbeStatListCount], frame.selection.y);
+}

@@ -1,0 +1,63 @@
+// The probe field and light cache driven together on the GPU and on the CPU reference, for the
+// probe tests: one step() runs the light cache (dirty pages) and one probe field frame on both.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "gi/gpu_stack_scene.h"
+#include "gi/light_cache.h"
+#include "gi/probe_field.h"
+#include "gi/probe_field_cpu.h"
+#include "gi/scene_lights.h"
+#include "gpu/context.h"
+
+namespace sdfstream::test {
+
+struct GiHarness {
+  bool runCpu = true, runGpu = true;
+  probe::ProbeFieldSettings settings;
+  std::unique_ptr<GpuStackScene> scene;
+  std::unique_ptr<LightCache> lightGpu;
+  LightCacheCpu lightCpu;
+  std::unique_ptr<probe::ProbeField> gpuField;
+  std::unique_ptr<probe::ProbeFieldCpu> cpuField;
+  std::vector<gpu_shared::GpuLight> lights;
+  gpu_shared::GpuSky sky{};
+  std::unique_ptr<CascadeStackImage> previous;
+
+  GiHarness(gpu::Context& ctx, const probe::ProbeFieldSettings& s, std::uint32_t cascades,
+            bool cpu = true, bool gpu = true)
+      : runCpu(cpu), runGpu(gpu), settings(s) {
+    if (runGpu) {
+      scene = std::make_unique<GpuStackScene>(ctx);
+      lightGpu = std::make_unique<LightCache>(ctx);
+      gpuField = std::make_unique<probe::ProbeField>(ctx, s, cascades);
+    }
+    if (runCpu) cpuField = std::make_unique<probe::ProbeFieldCpu>(s, cascades);
+  }
+
+  // One frame: uploads the image (whole, when `upload`), relights dirty pages, updates probes.
+  void step(const CascadeStackImage& image, probe::ProbeFrameInputs in, std::uint64_t frame,
+            bool upload = true) {
+    in.sky = sky;
+    const std::vector<std::uint32_t> dirty = lightDirtyPages(previous.get(), image, in.lightsChanged);
+    if (runGpu) {
+      if (upload) scene->uploadAll(image);
+      lightGpu->update(*scene, lights, sky, dirty, image.voxelSize0);
+      gpuField->update(*scene, image, lightGpu->radianceBuffer(), in, frame);
+    }
+    if (runCpu) {
+      lightCpu.update(image, lights, sky, dirty, image.voxelSize0);
+      cpuField->update(image, lightCpu.radiance(), in, frame);
+    }
+    previous = std::make_unique<CascadeStackImage>(image);
+  }
+
+  std::vector<glm::vec3> sampleGpu(std::span<const gpu_shared::ProbeQuery> q) {
+    return gpuField->sample(*scene, lightGpu->radianceBuffer(), q);
+  }
+};
+
+}  // namespace sdfstream::test
