@@ -211,9 +211,36 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
     auto local = base;
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       out[i] = local.probeFieldIrradiance(frame_.constants, glm::vec3(queries[i].position),
-                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view), true);
+                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view), true,
+                                          int(queries[i].position.w) - 1);
   });
   return out;
+}
+
+}  // namespace sdfstream::probe
+
+namespace sdfstream::probe {
+
+glm::vec3 ProbeFieldCpu::probePosition(std::uint32_t g) const {
+  field_detail::FieldPasses base;
+  const std::uint32_t per = settings_.probesPerVolume();
+  const gpu_shared::ProbeVolume& v = frame_.volumes[g / per];
+  return base.probeGridPosition(v, base.probeLogicalCoord(v, g % per)) + glm::vec3(data_[g]);
+}
+
+glm::vec2 ProbeFieldCpu::traceFresh(const CascadeStackImage& stack, std::uint32_t g,
+                                    std::uint32_t slot, std::uint32_t ray) const {
+  field_detail::FieldPasses base;
+  base.pageTable = stack.pageTables.data();
+  base.distanceAtlas = stack.distanceAtlas->data();
+  base.albedoAtlas = stack.albedoAtlas->data();
+  base.emissionAtlas = stack.emissionAtlas->data();
+  base.cascades = stack.params.data();
+  base.rotations = frame_.rotations.data();
+  const std::uint32_t c = g / settings_.probesPerVolume();
+  const glm::vec3 dir = base.probeRotationSlotDirection(slot, ray, settings_.raysPerProbe);
+  const auto h = base.probeTraceFresh(frame_.constants, c, probePosition(g), dir);
+  return glm::vec2(h.hit ? h.t0 : -1.0f, float(h.cascade));
 }
 
 }  // namespace sdfstream::probe

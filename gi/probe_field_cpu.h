@@ -53,6 +53,14 @@ class ProbeFieldCpu {
   std::vector<glm::vec3> sample(const CascadeStackImage& stack,
                                 std::span<const gpu_shared::ProbeQuery> queries) const;
 
+  // Ray `ray` of hit-cache rotation slot `slot` of global probe g, traced afresh against `stack`
+  // from the probe's current position with the last frame's constants (tests compare it with
+  // the cached entry). Returns (hit ? t in cascade-0 voxels : -1, hit cascade).
+  glm::vec2 traceFresh(const CascadeStackImage& stack, std::uint32_t g, std::uint32_t slot,
+                       std::uint32_t ray) const;
+  // The probe's current position (grid point + relocation), cascade-0 voxels.
+  glm::vec3 probePosition(std::uint32_t g) const;
+
   const ProbeFieldSettings& settings() const { return settings_; }
   const ProbeFieldStats& lastStats() const { return stats_; }
   std::span<const glm::vec4> irradiance() const { return irradiance_; }

@@ -136,13 +136,16 @@ vec3 probeRelocate(uint cascade, uint cascadeCount, vec3 gridPos, float spacing,
 }
 
 // Probe history (uvec4): xyz mean irradiance at the last check (float bits); w packs
-// quiet updates (bits 0..7), vigilant frames left (8..15), frames since last update (16..31).
+// quiet updates (bits 0..7), vigilant frames left (8..15), frames since last update (16..30),
+// and bit 31: more than a quarter of its last rays hit backfaces (it sits inside geometry).
 uint probeHistoryQuiet(uvec4 h) { return h.w & 255u; }
 uint probeHistoryVigilant(uvec4 h) { return (h.w >> 8u) & 255u; }
-uint probeHistoryAge(uvec4 h) { return h.w >> 16u; }
-uvec4 probeHistoryPack(vec3 mean, uint quiet, uint vigilant, uint age) {
+uint probeHistoryAge(uvec4 h) { return (h.w >> 16u) & 32767u; }
+bool probeHistoryInside(uvec4 h) { return (h.w >> 31u) != 0u; }
+uvec4 probeHistoryPack(vec3 mean, uint quiet, uint vigilant, uint age, bool inside) {
   return uvec4(floatBitsToUint(mean.x), floatBitsToUint(mean.y), floatBitsToUint(mean.z),
-               min(quiet, 255u) | (min(vigilant, 255u) << 8u) | (min(age, 65535u) << 16u));
+               min(quiet, 255u) | (min(vigilant, 255u) << 8u) | (min(age, 32767u) << 16u) |
+                   (inside ? 0x80000000u : 0u));
 }
 
 // Whether probe storage s of v holds a position that was outside the volume last frame (the
@@ -162,6 +165,7 @@ uint probeState(ProbeFrame f, ProbeSdf sdf, float spacing, uvec4 history) {
   if ((f.options.x & kProbeOptionStates) == 0u)
     return probeHistoryVigilant(history) > 0u ? kProbeVigilant : kProbeAwake;
   if (sdf.resident && sdf.distance < 0.0f) return kProbeOff;
+  if (probeHistoryInside(history)) return kProbeOff;  // M21 Sec. 5: mostly backface hits
   if (!sdf.resident && sdf.distance >= 2.0f * spacing) return kProbeOff;
   if (probeHistoryVigilant(history) > 0u) return kProbeVigilant;
   return probeHistoryQuiet(history) >= 4u ? kProbeSleeping : kProbeAwake;
@@ -289,8 +293,11 @@ vec4 probeVolumeIrradiance(ProbeFrame f, uint c, vec3 x, vec3 n, vec3 view, bool
 // The field's irradiance at x (cascade-0 voxels) for unit normal n seen from view: the finest
 // cascade whose probe grid holds x at least half a spacing inside, blended over the next spacing
 // into the next coarser cascade (a smooth band, no seams where cascades meet; GS "cascades").
-vec3 probeFieldIrradiance(ProbeFrame f, vec3 x, vec3 n, vec3 view, bool allowSdfVisibility) {
+// onlyCascade >= 0 samples that cascade alone (tests and debugging).
+vec3 probeFieldIrradiance(ProbeFrame f, vec3 x, vec3 n, vec3 view, bool allowSdfVisibility,
+                          int onlyCascade) {
   bool sdfVisibility = allowSdfVisibility && (f.options.x & kProbeOptionSdfVisibility) != 0u;
+  if (onlyCascade >= 0) return vec3(probeVolumeIrradiance(f, uint(onlyCascade), x, n, view, sdfVisibility));
   vec3 result = vec3(0.0f);
   float remaining = 1.0f;
   for (uint c = 0u; c < f.counts.x; ++c) {
@@ -382,11 +389,12 @@ vec4 probeShadeRay(ProbeFrame f, ProbeVolume v, vec3 o, vec3 dir, ProbeRayHit h)
   }
   bool backface = dot(h.normal, dir) > 0.0f;
   float depth = probeRayDepth(h.t0, true, backface, maxDepth, v.visibility.z);
-  if (backface) return vec4(0.0f, 0.0f, 0.0f, depth);
+  // Backface depths are stored negated so the blend can count them; moments use |depth|.
+  if (backface) return vec4(0.0f, 0.0f, 0.0f, -depth);
   vec3 albedo = probeSrgbToLinear(vec3(unpackAlbedo(SDF_ALBEDO(h.material))));
   vec3 direct = unpackRgb9e5(LIGHT_RADIANCE(h.material));
   vec3 hitPos = o + dir * h.t0;
-  vec3 indirect = probeFieldIrradiance(f, hitPos, h.normal, -dir, false);
+  vec3 indirect = probeFieldIrradiance(f, hitPos, h.normal, -dir, false, -1);
   return vec4(direct + albedo * indirect * (f.skyZenith.w * 0.3183098861837907f), depth);
 }
 
@@ -426,6 +434,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
   uint quiet = probeHistoryQuiet(hist);
   uint vigilant = probeHistoryVigilant(hist);
   uint age = probeHistoryAge(hist);
+  bool inside = probeHistoryInside(hist);
   vec3 mean = vec3(uintBitsToFloat(hist.x), uintBitsToFloat(hist.y), uintBitsToFloat(hist.z));
   if (entered) {
     for (uint t = 0u; t < kProbeIrradianceTexels * kProbeIrradianceTexels; ++t)
@@ -435,6 +444,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     quiet = 0u;
     vigilant = f.selection.w;
     age = 0u;
+    inside = false;
     mean = vec3(0.0f);
   } else {
     if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
@@ -457,7 +467,15 @@ void probeClassifyPass(ProbeFrame f, uint g) {
   if ((f.options.x & kProbeOptionRelocation) != 0u)
     offset = probeRelocate(c, f.counts.x, grid, spacing, f.trace.y * spacing);
   ProbeSdf sdf = probeSdfAt(c, f.counts.x, grid + offset);
-  uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age);
+  // The inside verdict holds until the probe moves or the page under it changes (streaming).
+  if (offset != vec3(oldData)) inside = false;
+  else if (inside) {
+    CascadeTraceParams cp = SDF_CASCADE(c);
+    vec3 local = (grid + offset - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / cp.offsetScale.w;
+    uint page = sdfPageIndex(sdfPageOf(local), cp.toroidal) - cp.toroidal.w;
+    if (PROBE_PAGE_CHANGED(c, page)) inside = false;
+  }
+  uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, inside);
   uint state = probeState(f, sdf, spacing, newHist);
   PROBE_STAT_ADD(kProbeStatStates + state, 1u);
 
@@ -554,6 +572,14 @@ void probeBlendPass(ProbeFrame f, uint l, uint local) {
   bool vigilant = probeStateOf(PROBE_DATA(g)) == kProbeVigilant;
   bool adaptive = (f.options.x & kProbeOptionAdaptiveHysteresis) != 0u;
   const uint irrCount = kProbeIrradianceInterior * kProbeIrradianceInterior;
+  if (local == 0u && (f.options.x & kProbeOptionStates) != 0u) {
+    // M21 Sec. 5: a probe with more than a quarter of its rays on backfaces is inside geometry.
+    uint backfaces = 0u;
+    for (uint r = 0u; r < n; ++r) backfaces += PROBE_RAY(l * n + r).w < 0.0f ? 1u : 0u;
+    uvec4 hist = PROBE_HISTORY(g);
+    bool inside = 4u * backfaces > n;
+    PROBE_HISTORY(g) = uvec4(hist.x, hist.y, hist.z, (hist.w & 0x7fffffffu) | (inside ? 0x80000000u : 0u));
+  }
   if (local < irrCount) {
     uvec2 texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
     uint i = probeIrradianceIndex(g, texel + uvec2(kProbeBorderTexels));
@@ -603,5 +629,5 @@ void probeSelectPass(ProbeFrame f, uint g, uint mode) {
   if (index >= f.selection.y) return;
   PROBE_LIST(index) = g;
   uvec4 h = PROBE_HISTORY(g);
-  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0xffffu);  // age 0: updated this frame
+  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0x8000ffffu);  // age 0: updated this frame
 }

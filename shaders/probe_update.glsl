@@ -95,7 +95,7 @@ vec2 probeBlendDepthTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel, vec2
   vec3 texelDir = probeTexelDirection(texel, kProbeDepthInterior);
   vec3 sums = vec3(0.0f);  // w d, w d², w
   for (uint r = 0u; r < n; ++r) {
-    float d = PROBE_RAY(rayBase + r).w;
+    float d = abs(PROBE_RAY(rayBase + r).w);  // backface depths are stored negated
     float w = probeDepthWeight(texelDir, probeRayDirection(r, n, rotation), sharpness);
     sums += vec3(w * d, w * d * d, w);
   }

@@ -123,7 +123,7 @@ SDF_CONST uint kProbeStatCount = 16u;
 
 // One irradiance query of probe_sample.comp (irradiance(x, n, view) of the field).
 struct ProbeQuery {
-  vec4 position;  // xyz: receiver, cascade-0 voxels; w unused                         (0..15)
+  vec4 position;  // xyz: receiver, cascade-0 voxels; w: 0 = all cascades, 1 + c = c alone (0..15)
   vec4 normal;    // xyz: unit surface normal; w unused                                (16..31)
   vec4 view;      // xyz: unit direction from the receiver towards the camera; w unused (32..47)
 };

@@ -97,7 +97,7 @@ inline glm::vec3 meanProbeIrradiance(const std::vector<glm::vec4>& atlas, std::u
 // Signed distance of the empty inside of the box [lo, hi] (positive inside, negative in the
 // solid around it).
 inline auto insideBox(glm::vec3 lo, glm::vec3 hi) {
-  return [=](glm::vec3 p) {
+  return [=](glm::vec3 p, float = 1.0f) {
     const glm::vec3 centre = 0.5f * (lo + hi), half = 0.5f * (hi - lo);
     const glm::vec3 q = glm::abs(p - centre) - half;
     const float box = glm::length(glm::max(q, glm::vec3(0.0f))) +

@@ -39,7 +39,7 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   ProbeFrameInputs in;
   in.cameraWorld = b.camera;
   in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - b.camera));
-  for (std::uint64_t frame = 0; frame < 5; ++frame) {
+  for (std::uint64_t frame = 0; frame < 4; ++frame) {
     in.lightsChanged = frame == 0;
     h.step(img, in, frame);
   }
@@ -53,7 +53,7 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   const ProbeFieldStats& cs = cpu.lastStats();
   const ProbeFieldStats& gs = h.gpuField->lastStats();
   std::printf(
-      "[figures] probe field GPU vs CPU (bunny, 3 cascades x 125 probes x 32 rays, 5 frames): "
+      "[figures] probe field GPU vs CPU (bunny, 3 cascades x 125 probes x 32 rays, 4 frames): "
       "max rel diff irradiance %.2e, depth %.2e, probe data %.2e; states off/sleep/awake/vigilant "
       "%u/%u/%u/%u; last frame %u probes, %u rays traced, %u cached; GPU %.3f ms\n",
       irr, depth, data, cs.states[0], cs.states[1], cs.states[2], cs.states[3], cs.probesUpdated,
@@ -67,7 +67,16 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   // lavapipe's LLVM may contract a few multiply-adds outside the `precise` trace math.
   EXPECT_NEAR(double(cs.steps), double(gs.steps), 2e-3 * double(cs.steps));
   for (int i = 0; i < 4; ++i) EXPECT_EQ(cs.states[i], gs.states[i]) << "state " << i;
-  EXPECT_GT(cs.raysCached, 0u) << "frames 4.. reuse the rotation slot of frame 0";
+  // Four more frames reuse the four rotation slots: every ray comes from the hit cache. A cached
+  // normal is quantised (13 + 13 bits) from the normal each side computed, so a one-ulp
+  // difference can land in the neighbouring code: looser bound, stated here.
+  for (std::uint64_t frame = 4; frame < 8; ++frame) h.step(img, in, frame);
+  EXPECT_GT(cpu.lastStats().raysCached, 0u);
+  EXPECT_EQ(cpu.lastStats().raysCached, h.gpuField->lastStats().raysCached);
+  const float cachedIrr =
+      test::worstRelative<glm::vec4, 4>(cpu.irradiance(), h.gpuField->downloadIrradiance(), 1e-3f);
+  std::printf("[figures] probe field GPU vs CPU after 4 cached frames: max rel diff irradiance %.2e\n", cachedIrr);
+  EXPECT_LE(cachedIrr, 2e-2f);
 
   const auto queries = test::randomQueries(img, 0, 2048, 7u);
   const auto gSample = h.sampleGpu(queries);

@@ -17,7 +17,9 @@
 namespace sdfstream::test {
 
 struct AnalyticStack {
-  using Sdf = std::function<float(glm::vec3)>;               // cascade-0 voxels, + outside
+  // (position, cascade voxel size): cascade-0 voxels, + in empty space. The voxel size lets a
+  // scene thicken thin walls in coarse cascades as the importer's min-filter LOD chain does.
+  using Sdf = std::function<float(glm::vec3, float)>;
   using Material = std::function<glm::uvec2(glm::vec3)>;     // (albedo RGBA8, emission RGB9E5)
   std::vector<std::uint32_t> distance, albedo, emission;
   CascadeStackImage image;
@@ -44,7 +46,7 @@ struct AnalyticStack {
               for (int y = 0; y < 9; ++y)
                 for (int x = 0; x < 9; ++x) {
                   const glm::vec3 q = offset + (glm::vec3(px, py, pz) * 8.0f + glm::vec3(x, y, z)) * scale;
-                  const float d = sdf(q) / scale;  // in this cascade's voxels
+                  const float d = sdf(q, scale) / scale;  // in this cascade's voxels
                   samples[x + 9 * (y + 9 * z)] = std::clamp(d, -gpu_shared::kNarrowBand, gpu_shared::kNarrowBand);
                   minAbs = std::min(minAbs, std::abs(d));
                   minValue = std::min(minValue, d);
