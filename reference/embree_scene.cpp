@@ -25,6 +25,9 @@ EmbreeScene::EmbreeScene(const TriangleScene& scene) {
   rtcAttachGeometry(scene_, geom);
   rtcReleaseGeometry(geom);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  // Watertight edges: without the robust flag a ray can slip between two triangles that share an
+  // edge, and the path tracer's closed-box (white furnace) test would leak light.
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcCommitScene(scene_);
 }
 
@@ -52,7 +55,26 @@ std::optional<EmbreeScene::Hit> EmbreeScene::intersect(const glm::vec3& o, const
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   glm::vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   float len = glm::length(n);
-  return Hit{rh.ray.tfar, len > 0 ? n / len : glm::vec3(0, 1, 0), rh.hit.primID};
+  return Hit{rh.ray.tfar, len > 0 ? n / len : glm::vec3(0, 1, 0), rh.hit.primID,
+             glm::vec2(rh.hit.u, rh.hit.v)};
+}
+
+bool EmbreeScene::occluded(const glm::vec3& o, const glm::vec3& d, float tMin, float tMax) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = o.x;
+  ray.org_y = o.y;
+  ray.org_z = o.z;
+  ray.dir_x = d.x;
+  ray.dir_y = d.y;
+  ray.dir_z = d.z;
+  ray.tnear = tMin;
+  ray.tfar = tMax;
+  ray.mask = std::numeric_limits<unsigned>::max();
+  rtcOccluded1(scene_, &context, &ray);
+  // Embree marks an occluded ray by setting tfar to -inf.
+  return ray.tfar < 0.0f;
 }
 
 }  // namespace sdfstream

@@ -1,5 +1,5 @@
 // Exact ray casting on the source triangles with Embree: the independent reference that the
-// SDF traversal is checked against (and, later, the path tracer's intersector).
+// SDF traversal is checked against, and the path tracer's intersector (reference/path_tracer.h).
 #pragma once
 
 #include <optional>
@@ -22,13 +22,17 @@ class EmbreeScene {
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
   struct Hit {
-    float t;              // distance along the (unit) direction, world units
-    glm::vec3 normal;     // unit geometric normal (unoriented)
-    unsigned triangle;    // index into TriangleScene::triangles
+    float t;            // distance along the (unit) direction, world units
+    glm::vec3 normal;   // unit geometric normal (unoriented)
+    unsigned triangle;  // index into TriangleScene::triangles
+    glm::vec2 bary;     // barycentrics (b1, b2) of vertices 1 and 2, as sampleAlbedo takes them
   };
   // Closest hit within (tMin, tMax), or nullopt.
   std::optional<Hit> intersect(const glm::vec3& origin, const glm::vec3& dir, float tMin,
                                float tMax) const;
+  // Whether anything is hit within (tMin, tMax): the shadow-ray query (any hit, no sorting, so
+  // cheaper than intersect()).
+  bool occluded(const glm::vec3& origin, const glm::vec3& dir, float tMin, float tMax) const;
 
  private:
   RTCDeviceTy* device_ = nullptr;
