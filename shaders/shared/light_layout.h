@@ -8,7 +8,7 @@
 // RGB. A light's `colorIntensity.rgb * colorIntensity.w` is:
 //  - sun: irradiance on a surface facing it (W/m² per unit of the scene's radiance scale);
 //  - point / spot: intensity (radiance × area), falling off with 1 / distance² (distance in
-//    metres, so the GPU multiplies voxel distances by voxelSize0; see LightPushConstants).
+//    metres, so the GPU multiplies voxel distances by voxelSize0; see LightCachePushConstants).
 #ifndef SDFSTREAM_LIGHT_LAYOUT_H
 #define SDFSTREAM_LIGHT_LAYOUT_H
 
@@ -37,11 +37,24 @@ struct GpuSky {
   vec4 horizon;  // rgb: radiance at and below the horizon; w unused
 };
 
+// Push constants of light_cache.comp (gi/light_cache.h): relight the listed pages' cells.
+struct LightCachePushConstants {
+  uvec4 counts;  // x: listed pages; y: lights (<= kMaxLights); z: cascades; w: max shadow steps
+                 //                                                                    (0..15)
+  vec4 params;   // x: cascade-0 voxel size in metres; y: hit epsilon (voxels); zw: 0   (16..31)
+  GpuSky sky;    // not added to the cells (probe rays that miss see it; adding it here would
+                 // count it twice); carried for passes that share these constants     (32..63)
+};
+
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
+#include <cstddef>
 static_assert(sizeof(sdfstream::gpu_shared::GpuLight) == 64);
 static_assert(sizeof(sdfstream::gpu_shared::GpuSky) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::LightCachePushConstants) == 64);
+static_assert(offsetof(sdfstream::gpu_shared::LightCachePushConstants, params) == 16);
+static_assert(offsetof(sdfstream::gpu_shared::LightCachePushConstants, sky) == 32);
 #endif
 
 #endif

@@ -1,0 +1,116 @@
+// The static voxel light cache (issue 5 item 5; Godot SDFGI slides, "Filling the light texture
+// with light" and "Caching light hits"): the outgoing direct radiance of every surface material
+// voxel of the cascade stack -- emission + albedo/π · (sun, point and spot lights with SDF-traced
+// soft shadows) -- stored per atlas material voxel as RGB9E5, indexed like the albedo/emission
+// atlas (slot * 512 + cell). Probe rays read it where they hit instead of shading every hit.
+// It is recomputed only for dirty pages: all resident pages when the lights change, otherwise the
+// pages whose brick changed (lightDirtyPages). The math is shaders/light_math.glsl, run by
+// light_cache.comp (LightCache) and, as C++, by the CPU reference LightCacheCpu.
+//
+// Not (yet): shadows cast by a newly streamed brick onto pages that did not change are picked up
+// only when those pages are next relit; no indirect light (the probes add it); sky light is left
+// to the probes (rays that miss see the sky).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gi/gpu_stack_scene.h"
+#include "gpu/buffer.h"
+#include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
+#include "shaders/shared/light_layout.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream {
+
+struct LightCacheSettings {
+  std::uint32_t maxShadowSteps = 128;  // sphere-tracing steps per shadow ray, over all cascades
+  float hitEpsilon = 0.02f;            // voxels: a sample below this blocks the light
+};
+
+// Global page indices (cascade * 4096 + toroidal entry) whose cells need relighting, sorted:
+//  - every resident page of `current` when lightsChanged, when there is no `previous`, or when
+//    the cascade count or the voxel size changed;
+//  - otherwise each page resident in `current` whose entry differs from `previous`, or whose
+//    entry now holds another brick because its cascade scrolled (a released slot can be reused by
+//    the entering page with the very same entry value).
+// lightsChanged is about the lights in the world (e.g. SceneLights::version), not about their
+// GpuLight form, which moves with cascade 0 although the light does not.
+std::vector<std::uint32_t> lightDirtyPages(const CascadeStackImage* previous,
+                                           const CascadeStackImage& current, bool lightsChanged);
+
+// Builds the push constants both implementations use. Asserts lights.size() <= kMaxLights.
+gpu_shared::LightCachePushConstants lightCachePushConstants(
+    const LightCacheSettings& settings, std::uint32_t pageCount, std::uint32_t lightCount,
+    std::uint32_t cascadeCount, const gpu_shared::GpuSky& sky, double voxelSize0);
+
+// skyRadiance of shaders/light_math.glsl for C++ callers: the radiance of `sky` along unit `dir`.
+glm::vec3 skyRadianceCpu(const gpu_shared::GpuSky& sky, glm::vec3 dir);
+
+// CPU reference of the same math (TBB over pages × cells). Not thread safe; update() blocks.
+class LightCacheCpu {
+ public:
+  explicit LightCacheCpu(LightCacheSettings settings = {}) : settings_(settings) {}
+
+  // Relights the cells of each listed page that is resident in `stack` (others are skipped;
+  // pages must be distinct, as lightDirtyPages returns them: cells are written in parallel);
+  // every other slot keeps its value. Lights in cascade-0 voxels (toGpu), at most kMaxLights;
+  // voxelSize0 in metres. The storage grows (new slots 0) to the stack's atlas size.
+  void update(const CascadeStackImage& stack, std::span<const gpu_shared::GpuLight> lights,
+              const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
+              double voxelSize0);
+
+  // One RGB9E5 per atlas material voxel (slot * 512 + cell), sized like the albedo atlas.
+  std::span<const std::uint32_t> radiance() const { return radiance_; }
+  std::uint32_t pagesRelitLastUpdate() const { return pagesRelit_; }
+
+ private:
+  LightCacheSettings settings_;
+  std::vector<std::uint32_t> radiance_;
+  std::uint32_t pagesRelit_ = 0;
+};
+
+// The GPU light cache (light_cache.comp). Owns the light atlas and small upload buffers for the
+// page list and the lights. Thread safety: as for the Context.
+class LightCache {
+ public:
+  // Throws std::runtime_error when a Vulkan allocation fails.
+  explicit LightCache(gpu::Context& context, LightCacheSettings settings = {});
+
+  // Relights the listed pages against `scene` (which must hold the stack these page indices and
+  // lights refer to); blocking. Grows the light atlas to scene.slotCount() first (old values
+  // kept, new slots zero). Skips the dispatch entirely when dirtyPages is empty. Same units and
+  // limits as LightCacheCpu::update; at most 65535 pages (asserted; a stack has <= 32768).
+  void update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
+              const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
+              double voxelSize0);
+
+  // Device-local light atlas: one RGB9E5 uint per material voxel, zero-filled on creation/growth.
+  const gpu::Buffer& radianceBuffer() const { return radiance_; }
+  std::vector<std::uint32_t> downloadRadiance() const;  // blocking
+  std::size_t materialVoxelCount() const { return materialVoxels_; }
+
+  // GPU time of the last update's pass ("light_cache"); empty when it dispatched nothing.
+  const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
+  // Pages listed in the last update (each relit if resident); 0 when it was skipped.
+  std::uint32_t pagesRelitLastUpdate() const { return pagesRelit_; }
+  const LightCacheSettings& settings() const { return settings_; }
+
+ private:
+  void grow(std::size_t materialVoxels);
+
+  gpu::Context& context_;
+  LightCacheSettings settings_;
+  gpu::ComputePipeline pipeline_;
+  gpu::Buffer radiance_;  // device-local light atlas
+  gpu::Buffer pageList_;  // upload, grown on demand
+  gpu::Buffer lights_;    // upload, kMaxLights GpuLight
+  std::size_t materialVoxels_ = 0;
+  std::vector<gpu::PassTiming> timings_;
+  std::uint32_t pagesRelit_ = 0;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,149 @@
+// The CPU half of gi/light_cache.h: dirty-page selection, push constants and the CPU reference
+// LightCacheCpu, which runs shaders/light_math.glsl compiled as C++.
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/gtc/packing.hpp>
+
+#include "gi/light_cache.h"
+#include "shaders/shared/color_codec.h"
+
+namespace sdfstream {
+namespace light_detail {
+using namespace glm;
+using namespace gpu_shared;
+
+// The GLSL functions become member functions; the macros read this object's pointers, which
+// point into the CascadeStackImage and the light list of one update.
+struct LightCacheShader {
+  const std::uint32_t* pageTable = nullptr;
+  const std::uint32_t* distanceAtlas = nullptr;
+  const std::uint32_t* albedoAtlas = nullptr;
+  const std::uint32_t* emissionAtlas = nullptr;
+  const CascadeTraceParams* cascades = nullptr;
+  const GpuLight* lights = nullptr;
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#define LIGHT_AT(i) lights[i]
+#include "shaders/sdf_trace.glsl"
+// light_math.glsl needs sdf_trace.glsl's functions: keep this order (a separate include block).
+#include "shaders/light_math.glsl"
+#undef SDF_PAGE
+#undef SDF_DIST_WORD
+#undef SDF_ALBEDO
+#undef SDF_EMISSION
+#undef SDF_CASCADE
+#undef LIGHT_AT
+
+  // Mirrors main() of light_cache.comp; returns false when the cell is not written.
+  bool relightCell(std::uint32_t global, std::uint32_t cell, const LightCachePushConstants& pc,
+                   std::uint32_t& index, std::uint32_t& value) {
+    const std::uint32_t cascade = global / kCascadePageCount;
+    if (cascade >= pc.counts.z) return false;
+    const std::uint32_t entry = pageTable[global];
+    if ((entry & kPageResidentBit) == 0u) return false;
+    const std::uint32_t slot = entry & kPagePayloadMask;
+    const ivec3 page = lightPageOfEntry(global % kCascadePageCount, cascades[cascade].toroidal);
+    const vec3 radiance = lightCacheCellRadiance(
+        cascade, page, slot, cell, pc.counts.y, pc.params.x, pc.counts.w, pc.params.y, pc.counts.z);
+    index = slot * kBrickMaterialCount + cell;
+    value = packRgb9e5(radiance);
+    return true;
+  }
+};
+
+// Brick coordinate (in the cascade's own bricks) held by toroidal entry `entry` of cascade c:
+// the cascade's minimum corner in bricks plus the entry's page coordinate.
+glm::dvec3 entryBrick(const CascadeStackImage& image, std::uint32_t c, std::uint32_t entry) {
+  const CascadeTraceParams& cp = image.params[c];
+  const glm::dvec3 corner0 =
+      image.voxelSize0 > 0.0 ? image.cascade0MinWorld / image.voxelSize0 : glm::dvec3(0.0);
+  const glm::dvec3 corner =
+      (corner0 + glm::dvec3(glm::vec3(cp.offsetScale))) / (double(cp.offsetScale.w) * kBrickCells);
+  LightCacheShader shader{};
+  const glm::ivec3 page = shader.lightPageOfEntry(entry, cp.toroidal);
+  return glm::round(corner) + glm::dvec3(page);
+}
+}  // namespace light_detail
+
+std::vector<std::uint32_t> lightDirtyPages(const CascadeStackImage* previous,
+                                           const CascadeStackImage& current, bool lightsChanged) {
+  using gpu_shared::kCascadePageCount;
+  const std::uint32_t cascades = std::uint32_t(current.params.size());
+  const bool all = lightsChanged || previous == nullptr ||
+                   previous->params.size() != current.params.size() ||
+                   previous->pageTables.size() != current.pageTables.size() ||
+                   previous->voxelSize0 != current.voxelSize0;
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    // A scrolled cascade maps entries to new bricks; compare bricks only then (cheap otherwise).
+    const bool scrolled =
+        !all && (previous->params[c].toroidal != current.params[c].toroidal ||
+                 previous->params[c].offsetScale != current.params[c].offsetScale ||
+                 previous->cascade0MinWorld != current.cascade0MinWorld);
+    for (std::uint32_t e = 0; e < kCascadePageCount; ++e) {
+      const std::uint32_t global = c * kCascadePageCount + e;
+      const std::uint32_t entry = current.pageTables[global];
+      if ((entry & gpu_shared::kPageResidentBit) == 0u) continue;
+      if (all || entry != previous->pageTables[global] ||
+          (scrolled &&
+           light_detail::entryBrick(*previous, c, e) != light_detail::entryBrick(current, c, e)))
+        out.push_back(global);
+    }
+  }
+  return out;
+}
+
+glm::vec3 skyRadianceCpu(const gpu_shared::GpuSky& sky, glm::vec3 dir) {
+  return light_detail::LightCacheShader{}.skyRadiance(sky, dir);
+}
+
+gpu_shared::LightCachePushConstants lightCachePushConstants(
+    const LightCacheSettings& settings, std::uint32_t pageCount, std::uint32_t lightCount,
+    std::uint32_t cascadeCount, const gpu_shared::GpuSky& sky, double voxelSize0) {
+  assert(lightCount <= gpu_shared::kMaxLights);
+  gpu_shared::LightCachePushConstants pc{};
+  pc.counts = glm::uvec4(pageCount, lightCount, cascadeCount, settings.maxShadowSteps);
+  pc.params = glm::vec4(float(voxelSize0), settings.hitEpsilon, 0.0f, 0.0f);
+  pc.sky = sky;
+  return pc;
+}
+
+void LightCacheCpu::update(const CascadeStackImage& stack,
+                           std::span<const gpu_shared::GpuLight> lights,
+                           const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
+                           double voxelSize0) {
+  if (radiance_.size() < stack.albedoAtlas->size()) radiance_.resize(stack.albedoAtlas->size(), 0u);
+  pagesRelit_ = std::uint32_t(dirtyPages.size());
+  if (dirtyPages.empty()) return;
+  const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
+      settings_, std::uint32_t(dirtyPages.size()), std::uint32_t(lights.size()),
+      std::uint32_t(stack.params.size()), sky, voxelSize0);
+  light_detail::LightCacheShader shader{stack.pageTables.data(),   stack.distanceAtlas->data(),
+                                        stack.albedoAtlas->data(), stack.emissionAtlas->data(),
+                                        stack.params.data(),       lights.data()};
+  const std::size_t cells = dirtyPages.size() * gpu_shared::kBrickMaterialCount;
+  // Each listed page owns its slot's 512 words, so parallel writes never overlap (a page listed
+  // twice writes the same values twice).
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      light_detail::LightCacheShader local = shader;
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        std::uint32_t index = 0, value = 0;
+                        if (local.relightCell(dirtyPages[i / gpu_shared::kBrickMaterialCount],
+                                              std::uint32_t(i % gpu_shared::kBrickMaterialCount),
+                                              pc, index, value))
+                          radiance_[index] = value;
+                      }
+                    });
+}
+
+}  // namespace sdfstream
