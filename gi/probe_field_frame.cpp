@@ -101,7 +101,9 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.hitCache) options |= gpu_shared::kProbeOptionHitCache;
   if (s.states) options |= gpu_shared::kProbeOptionStates;
   if (s.relocation) options |= gpu_shared::kProbeOptionRelocation;
-  if (s.sdfVisibility) options |= gpu_shared::kProbeOptionSdfVisibility;
+  if (s.visibility != ProbeFieldSettings::Visibility::Chebyshev)
+    options |= gpu_shared::kProbeOptionSdfVisibility;
+  if (s.visibility == ProbeFieldSettings::Visibility::Sdf) options |= gpu_shared::kProbeOptionNoChebyshev;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
   if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
   if (first_) options |= gpu_shared::kProbeOptionFirstFrame;

@@ -46,7 +46,8 @@ struct ProbeFieldSettings {
   float sleepThreshold = 0.02f;     // relative mean change below which an update is "quiet"
   bool relocation = true;           // SDFDDGI Sec. 4.1
   float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
-  bool sdfVisibility = false;       // SDFDDGI visibility instead of Chebyshev when sampling
+  enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };
+  Visibility visibility = Visibility::ChebyshevAndSdf;  // sampling's visibility test
   std::uint32_t rayBudget = 1u << 21;  // rays per frame (all cascades)
   float viewConeDegrees = 60.0f;    // half-angle of the cone counted as "in view"
 

@@ -186,16 +186,34 @@ bool probeCacheStillValid(ProbeFrame f, uint c, vec3 o, vec3 dir, uvec2 e) {
   bool hit = (e.y & kHitCacheHit) != 0u;
   uint h = hit ? probeCacheCascade(e) : f.counts.x;
   vec3 invDir = sdfSafeInverse(dir);
-  for (uint k = c; k < h; ++k) {
+  float tEntry = 0.0f;  // where the ray enters cascade k (the same before and after, so far)
+  uint last = min(h, f.counts.x - 1u);
+  for (uint k = c; k <= last; ++k) {
     CascadeTraceParams cp = SDF_CASCADE(k);
     ProbeVolume vk = PROBE_VOLUME(k);
+    float scale = cp.offsetScale.w;
     vec3 lo = vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z);
     vec3 prevLo = vec3(vk.prevWindow);
-    if (lo == prevLo) continue;
-    float size = vk.prevWindow.w;
-    float now = probeBoxExit(o, invDir, lo, size);
-    float before = probeBoxExit(o, invDir, prevLo, size);
-    if (abs(now - before) > 1e-3f * cp.offsetScale.w) return false;
+    vec3 p = o + dir * tEntry;
+    // sdfTraceStackFrom's own test, in each window's units: is cascade k traced at all?
+    bool inNow = sdfInsideWindow((p - lo) / scale);
+    bool inBefore = sdfInsideWindow((p - prevLo) / scale);
+    if (inNow != inBefore) return false;
+    // A ray starting on a face of a moved window is ambiguous under rounding (it may be traced
+    // in this cascade or the next): re-trace it.
+    vec3 q = (p - lo) / scale;
+    float face = min(min(min(abs(q.x), abs(q.y)), abs(q.z)),
+                     min(min(abs(128.0f - q.x), abs(128.0f - q.y)), abs(128.0f - q.z)));
+    if (lo != prevLo && face < 1e-2f) return false;
+    if (!inNow || k == h) continue;  // the hit cascade: its entry is what matters
+    if (lo == prevLo) {
+      tEntry = max(tEntry, probeBoxExit(o, invDir, lo, 128.0f * scale));
+      continue;
+    }
+    float now = probeBoxExit(o, invDir, lo, 128.0f * scale);
+    float before = probeBoxExit(o, invDir, prevLo, 128.0f * scale);
+    if (abs(now - before) > 1e-3f * scale) return false;
+    tEntry = max(tEntry, now);
   }
   if (!hit) return true;
   CascadeTraceParams ch = SDF_CASCADE(h);
@@ -235,20 +253,22 @@ uint probeUpdateClass(ProbeFrame f, uint g, uint state, vec3 position, float spa
 
 // ---- Sampling: irradiance(x, n, view) (issue 5 item 7) ---------------------------------------
 
-// SDFDDGI's visibility (Sec. 4.2) instead of Chebyshev: the SDF is traced from the probe towards
-// the receiver; a surface in between makes the probe (nearly) invisible.
+// SDFDDGI's visibility (Sec. 4.2): the SDF is traced from the probe towards the receiver; a
+// surface in between makes the probe invisible (a tiny weight, crushed to nothing below). On
+// top of Chebyshev by default: coarse cascades' depth texels mix misses and near hits (large
+// variance), where Chebyshev alone lets light through one-voxel walls.
 float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
   vec3 d = receiver - probe;
   float r = length(d);
   if (r < 1e-4f) return 1.0f;
   SdfStackResult s = sdfTraceStackFrom(probe, d / r, 0.0f, r, 64u, f.trace.x, c, f.counts.x);
-  return s.r.hit ? 0.02f : 1.0f;
+  return s.r.hit ? 1e-4f : 1.0f;
 }
 
 // One volume's estimate: rgb and the summed weight (0 when no probe of the cage is usable).
 // M21 Sec. 2.2 and 4.1 / H22 Sec. 4.4: the 8 probes of the cage around the biased receiver,
 // each weighted by backface (wrap) x visibility (Chebyshev on the depth moments towards the
-// biased receiver, or the SDF test) crushed below 0.2, x trilinear. Probes that are off or were
+// biased receiver, and/or the SDF test) crushed below 0.2, x trilinear. Probes that are off or were
 // never updated get weight 0; relocated probes are used at their relocated positions.
 vec4 probeVolumeIrradiance(ProbeFrame f, uint c, vec3 x, vec3 n, vec3 view, bool sdfVisibility) {
   ProbeVolume v = PROBE_VOLUME(c);
@@ -278,10 +298,9 @@ vec4 probeVolumeIrradiance(ProbeFrame f, uint c, vec3 x, vec3 n, vec3 view, bool
     vec3 fromProbe = biased - p;
     float r = length(fromProbe);
     vec3 dirFromProbe = r > 1e-6f ? fromProbe / r : n;
-    if (sdfVisibility)
-      w *= probeSdfVisibility(f, c, p, biased);
-    else
+    if ((f.options.x & kProbeOptionNoChebyshev) == 0u)
       w *= probeChebyshevWeight(probeSampleDepth(probe, dirFromProbe), r, v.visibility.w);
+    if (sdfVisibility) w *= probeSdfVisibility(f, c, p, biased);
     w = probeCrushWeight(max(w, 1e-6f), 0.2f);
     w *= probeTrilinearWeight(alpha, corner);
     sum += probeSampleIrradiance(probe, n, v.blend.w) * w;

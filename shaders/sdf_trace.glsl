@@ -185,6 +185,20 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
     SdfSample s = sdfSampleCascade(p, toroidalOffset);
     if (s.resident) {
       if (s.distance < hitEpsilon) {
+        // Two Newton steps onto the zero crossing (t += d): the stopping point of a sphere
+        // trace depends on where its steps happened to land (anywhere in the last epsilon);
+        // the refined t depends only on the surface, so rays traced from different cascade
+        // frames agree to ~1e-4 voxel (the hit cache relies on it).
+        // Only near the surface (|d| < epsilon): a ray that starts inside geometry stays put.
+        for (int k = 0; k < 2; ++k) {
+          if (abs(s.distance) >= hitEpsilon || t + s.distance < tMin) break;
+          SDF_PRECISE vec3 q = origin + dir * (t + s.distance);
+          SdfSample sq = sdfSampleCascade(q, toroidalOffset);
+          if (!sq.resident) break;
+          t = t + s.distance;
+          p = q;
+          s = sq;
+        }
         r.hit = true;
         r.t = t;
         r.position = p;
@@ -212,6 +226,14 @@ SdfTraceResult sdfTrace(vec3 origin, vec3 dir, float tMin, float tMax, uint maxS
   }
   r.ranOutOfSteps = true;
   return r;
+}
+
+// Whether a cascade-relative point lies in the window [0, 128]³ (faces included, with a little
+// slack for points computed as an exit of a nested window).
+bool sdfInsideWindow(vec3 p) {
+  float lo = -1e-3f;
+  float hi = 128.0f + 1e-3f;
+  return p.x >= lo && p.y >= lo && p.z >= lo && p.x <= hi && p.y <= hi && p.z <= hi;
 }
 
 #ifdef SDF_CASCADE
@@ -251,6 +273,10 @@ SdfStackResult sdfTraceStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax
     CascadeTraceParams cp = SDF_CASCADE(c);
     float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
     SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
+    // The ray continues in the finest cascade that holds its current point: a cascade whose
+    // window does not (a probe grid overhanging its window) is skipped, never entered later
+    // along the ray (the rest of that stretch would otherwise be traced nowhere).
+    if (!sdfInsideWindow(o + dir * (t0 / scale))) continue;
     uint budget = maxSteps > res.steps ? maxSteps - res.steps : 0u;
     SdfTraceResult r = sdfTrace(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon, cp.toroidal);
     res.steps += r.steps;

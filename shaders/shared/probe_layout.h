@@ -93,7 +93,8 @@ struct ProbeFrame {
 SDF_CONST uint kProbeOptionHitCache = 1u;
 SDF_CONST uint kProbeOptionStates = 2u;
 SDF_CONST uint kProbeOptionRelocation = 4u;
-SDF_CONST uint kProbeOptionSdfVisibility = 8u;  // SDFDDGI visibility instead of Chebyshev
+SDF_CONST uint kProbeOptionSdfVisibility = 8u;  // SDFDDGI's SDF visibility test when sampling
+SDF_CONST uint kProbeOptionNoChebyshev = 256u;  // ... instead of (not on top of) Chebyshev
 SDF_CONST uint kProbeOptionLightsChanged = 16u;
 SDF_CONST uint kProbeOptionAdaptiveHysteresis = 32u;
 SDF_CONST uint kProbeOptionFirstFrame = 64u;    // reset every probe (first frame, settings)

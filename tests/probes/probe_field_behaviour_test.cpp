@@ -43,8 +43,7 @@ TEST_F(ProbeFieldBehaviourTest, NoLightLeaksThroughOneVoxelWalls) {
     const float wall = std::max(-outer(p), inner(p));  // outside the outer box or inside the room
     return wall - 0.5f * (scale - 1.0f);                // thickened in coarse cascades
   };
-  auto solidShell = [&](glm::vec3 p, float scale) { return -std::min(outer(p), -inner(p)) * 0.0f + shell(p, scale); };
-  test::AnalyticStack room(3, solidShell, [](glm::vec3) { return glm::uvec2(kGrey, 0u); },
+  test::AnalyticStack room(3, shell, [](glm::vec3) { return glm::uvec2(kGrey, 0u); },
                            glm::vec3(64.0f));
   ProbeFieldSettings s;
   s.raysPerProbe = 64;
@@ -124,8 +123,10 @@ TEST_F(ProbeFieldBehaviourTest, HitCacheEqualsFreshTracesAfterRandomScrolls) {
     }
     const CascadeStackImage img = b.stack->stackImage();
     in.cameraWorld = camera;
-    for (int k = 0; k < 2; ++k) h.step(img, in, frame++);
-    invalidated += h.cpuField->lastStats().cacheInvalidated;
+    for (int k = 0; k < 2; ++k) {
+      h.step(img, in, frame++);
+      invalidated += h.cpuField->lastStats().cacheInvalidated;
+    }
     const auto cache = h.cpuField->hitCache();
     const std::uint32_t n = s.raysPerProbe;
     for (std::uint32_t g = 0; g < cache.size() / (n * 2); ++g)
