@@ -1,0 +1,51 @@
+#include "gi/gi_system.h"
+
+namespace sdfstream {
+
+GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint32_t cascades)
+    : scene_(context), light_(context, settings.light), probes_(context, settings.probes, cascades) {}
+
+GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
+                              const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                              std::uint64_t frame) {
+  scene_.sync(stack, dirtySlots);
+  return run(stack.stackImage(), lights, inputs, frame);
+}
+
+GiFrameStats GiSystem::update(const CascadeStackImage& image, const SceneLights& lights,
+                              probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  scene_.uploadAll(image);
+  return run(image, lights, inputs, frame);
+}
+
+GiFrameStats GiSystem::run(const CascadeStackImage& image, const SceneLights& lights,
+                           probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  // Lights are world-fixed: the light cache (radiance per voxel) only changes when they do,
+  // not when cascade 0 moves and their cascade-relative GPU form with it.
+  const bool lightsChanged = lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
+  lightsVersion_ = lights.version;
+  lightCount_ = lights.lights.size();
+  const std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
+  const auto gpuLights = toGpu(lights.lights, image);
+  const gpu_shared::GpuSky sky = toGpu(lights.sky);
+  light_.update(scene_, gpuLights, sky, dirty, image.voxelSize0);
+  inputs.sky = sky;
+  inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
+  probes_.update(scene_, image, light_.radianceBuffer(), inputs, frame);
+
+  GiFrameStats stats;
+  stats.pagesRelit = light_.pagesRelitLastUpdate();
+  for (const auto& t : light_.lastTimings()) stats.lightMilliseconds += t.milliseconds;
+  stats.probeMilliseconds = probes_.lastMilliseconds();
+  stats.probes = probes_.lastStats();
+  previous_ = std::make_unique<CascadeStackImage>(image);
+  return stats;
+}
+
+std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQuery> queries) {
+  return probes_.sample(scene_, light_.radianceBuffer(), queries);
+}
+
+double GiSystem::lastSampleMilliseconds() const { return probes_.lastMilliseconds(); }
+
+}  // namespace sdfstream
