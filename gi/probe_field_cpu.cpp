@@ -32,7 +32,7 @@ struct FieldPasses {
   const glm::vec4* rotations = nullptr;
   const std::uint32_t* pageChanged = nullptr;
   glm::vec4* irradiance = nullptr;
-  glm::vec2* depthTexels = nullptr;
+  glm::vec2* depth = nullptr;
   glm::vec4* rays = nullptr;
   glm::vec4* probeData = nullptr;
   glm::uvec4* history = nullptr;
@@ -40,33 +40,19 @@ struct FieldPasses {
   std::uint32_t* updateList = nullptr;
   std::uint32_t* stats = nullptr;
 
-  std::uint32_t statAdd(std::uint32_t i, std::uint32_t v) {
-    return std::atomic_ref<std::uint32_t>(stats[i]).fetch_add(v);
+  static std::uint32_t atomicAdd(std::uint32_t& x, std::uint32_t v) {
+    return std::atomic_ref<std::uint32_t>(x).fetch_add(v);
   }
+  // The stack image's buffers (every pass reads them).
+  explicit FieldPasses(const CascadeStackImage& stack)
+      : pageTable(stack.pageTables.data()),
+        distanceAtlas(stack.distanceAtlas->data()),
+        albedoAtlas(stack.albedoAtlas->data()),
+        emissionAtlas(stack.emissionAtlas->data()),
+        cascades(stack.params.data()) {}
+  FieldPasses() = default;
 
-#define SDF_PAGE(i) pageTable[i]
-#define SDF_DIST_WORD(i) distanceAtlas[i]
-#define SDF_ALBEDO(i) albedoAtlas[i]
-#define SDF_EMISSION(i) emissionAtlas[i]
-#define SDF_CASCADE(c) cascades[c]
-#include "shaders/sdf_trace.glsl"
-#include "shaders/probe_math.glsl"
-#include "shaders/light_math.glsl"
-#define PROBE_IRRADIANCE(i) irradiance[i]
-#define PROBE_DEPTH(i) depthTexels[i]
-#define PROBE_RAY(i) rays[i]
-#include "shaders/probe_update.glsl"
-#define PROBE_VOLUME(c) volumes[c]
-#define PROBE_DATA(g) probeData[g]
-#define PROBE_HISTORY(g) history[g]
-#define PROBE_CACHE(i) hitCache[i]
-#define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
-#define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
-#define LIGHT_RADIANCE(m) lightRadiance[m]
-#define PROBE_LIST(i) updateList[i]
-#define PROBE_STAT(i) stats[i]
-#define PROBE_STAT_ADD(i, v) statAdd(i, v)
-#include "shaders/probe_field.glsl"
+#include "shaders/probe_field_storage.glsl"
 #undef SDF_PAGE
 #undef SDF_DIST_WORD
 #undef SDF_ALBEDO
@@ -141,18 +127,13 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   frame_ = builder_.build(stack, inputs, frame);
   const gpu_shared::ProbeFrame& f = frame_.constants;
   std::fill(rawStats_.begin(), rawStats_.end(), 0u);
-  field_detail::FieldPasses base;
-  base.pageTable = stack.pageTables.data();
-  base.distanceAtlas = stack.distanceAtlas->data();
-  base.albedoAtlas = stack.albedoAtlas->data();
-  base.emissionAtlas = stack.emissionAtlas->data();
-  base.cascades = stack.params.data();
+  field_detail::FieldPasses base(stack);
   base.lightRadiance = light.data();
   base.volumes = frame_.volumes.data();
   base.rotations = frame_.rotations.data();
   base.pageChanged = frame_.pageChanged.data();
   base.irradiance = irradiance_.data();
-  base.depthTexels = depth_.data();
+  base.depth = depth_.data();
   base.rays = rays_.data();
   base.probeData = data_.data();
   base.history = history_.data();
@@ -195,16 +176,11 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
 
 std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
                                              std::span<const gpu_shared::ProbeQuery> queries) const {
-  field_detail::FieldPasses base;
-  base.pageTable = stack.pageTables.data();
-  base.distanceAtlas = stack.distanceAtlas->data();
-  base.albedoAtlas = stack.albedoAtlas->data();
-  base.emissionAtlas = stack.emissionAtlas->data();
-  base.cascades = stack.params.data();
+  field_detail::FieldPasses base(stack);
   base.volumes = frame_.volumes.data();
   // Sampling only reads; the pointers are non-const because the pass structs also write.
   base.irradiance = const_cast<glm::vec4*>(irradiance_.data());
-  base.depthTexels = const_cast<glm::vec2*>(depth_.data());
+  base.depth = const_cast<glm::vec2*>(depth_.data());
   base.probeData = const_cast<glm::vec4*>(data_.data());
   std::vector<glm::vec3> out(queries.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64), [&](auto r) {
@@ -230,12 +206,7 @@ glm::vec3 ProbeFieldCpu::probePosition(std::uint32_t g) const {
 
 glm::vec2 ProbeFieldCpu::traceFresh(const CascadeStackImage& stack, std::uint32_t g,
                                     std::uint32_t slot, std::uint32_t ray) const {
-  field_detail::FieldPasses base;
-  base.pageTable = stack.pageTables.data();
-  base.distanceAtlas = stack.distanceAtlas->data();
-  base.albedoAtlas = stack.albedoAtlas->data();
-  base.emissionAtlas = stack.emissionAtlas->data();
-  base.cascades = stack.params.data();
+  field_detail::FieldPasses base(stack);
   base.rotations = frame_.rotations.data();
   const std::uint32_t c = g / settings_.probesPerVolume();
   const glm::vec3 dir = base.probeRotationSlotDirection(slot, ray, settings_.raysPerProbe);

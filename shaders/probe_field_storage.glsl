@@ -1,0 +1,27 @@
+// The storage macros of the probe field math and the includes it needs, in dependency order.
+// One file for both languages: the GLSL passes (probe_bindings.glsl) declare buffers with these
+// names, and the CPU reference (gi/probe_field_cpu.cpp) declares members with the same names
+// plus an atomicAdd(uint&, uint) member, then both include this inside their scope.
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#include "shaders/sdf_trace.glsl"
+#include "shaders/probe_math.glsl"
+#include "shaders/light_math.glsl"
+#define PROBE_IRRADIANCE(i) irradiance[i]
+#define PROBE_DEPTH(i) depth[i]
+#define PROBE_RAY(i) rays[i]
+#include "shaders/probe_update.glsl"
+#define PROBE_VOLUME(c) volumes[c]
+#define PROBE_DATA(g) probeData[g]
+#define PROBE_HISTORY(g) history[g]
+#define PROBE_CACHE(i) hitCache[i]
+#define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
+#define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
+#define LIGHT_RADIANCE(m) lightRadiance[m]
+#define PROBE_LIST(i) updateList[i]
+#define PROBE_STAT(i) stats[i]
+#define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)
+#include "shaders/probe_field.glsl"
