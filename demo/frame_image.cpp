@@ -7,13 +7,9 @@
 
 #include "core/atomic_dir.h"
 #include "core/error.h"
-#include "shaders/shared/color_codec.h"
 
 namespace sdfstream {
 namespace {
-float srgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 std::uint8_t linearToSrgb8(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
   float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
@@ -21,32 +17,37 @@ std::uint8_t linearToSrgb8(float c) {
 }
 }  // namespace
 
-Image8 shadeHits(std::span<const gpu_shared::TraceHit> hits, int width, int height,
-                 const PreviewLighting& light) {
+glm::vec3 acesFitted(glm::vec3 c) {
+  // sRGB -> (ACES2065-1 via the RRT's saturation) and back (Hill's ACESFitted.hlsl); rows.
+  const glm::vec3 in0(0.59719f, 0.35458f, 0.04823f), in1(0.07600f, 0.90834f, 0.01566f),
+      in2(0.02840f, 0.13383f, 0.83777f);
+  const glm::vec3 out0(1.60475f, -0.53108f, -0.07367f), out1(-0.10208f, 1.10813f, -0.00605f),
+      out2(-0.00327f, -0.07276f, 1.07602f);
+  // `x > 0` is false for NaN: NaN and negative channels become 0.
+  c = glm::vec3(c.r > 0.0f ? c.r : 0.0f, c.g > 0.0f ? c.g : 0.0f, c.b > 0.0f ? c.b : 0.0f);
+  glm::vec3 v(glm::dot(in0, c), glm::dot(in1, c), glm::dot(in2, c));
+  v = (v * (v + 0.0245786f) - 0.000090537f) / (v * (0.983729f * v + 0.4329510f) + 0.238081f);
+  glm::vec3 o(glm::dot(out0, v), glm::dot(out1, v), glm::dot(out2, v));
+  return glm::clamp(o, glm::vec3(0.0f), glm::vec3(1.0f));
+}
+
+Image8 toneMap(std::span<const glm::vec3> radiance, int width, int height, float exposureStops,
+               std::size_t* nonFinite) {
   Image8 img{width, height, std::vector<std::uint8_t>(std::size_t(width) * height * 3)};
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const auto& h = hits[std::size_t(y) * width + x];
-      glm::vec3 c;
-      if (h.flags & gpu_shared::kHitFlagHit) {
-        glm::vec4 a = gpu_shared::unpackAlbedo(h.albedo);
-        glm::vec3 albedo(srgbToLinear(a.r), srgbToLinear(a.g), srgbToLinear(a.b));
-        glm::vec3 n(h.normalT);
-        float sun = std::max(0.0f, glm::dot(n, light.sunDirection));
-        float skyVisibility = 0.6f + 0.4f * n.y;  // crude hemisphere ambient
-        c = albedo * (light.sunColor * sun + light.skyColor * skyVisibility) +
-            gpu_shared::unpackRgb9e5(h.emission);
-      } else {
-        float v = float(y) / float(std::max(1, height - 1));
-        c = glm::mix(light.skyColor * 1.6f, glm::vec3(0.85f, 0.85f, 0.8f), v);
-      }
-      c *= light.exposure;
-      c = c / (glm::vec3(1.0f) + c);  // Reinhard: keeps HDR emission from clipping harshly
-      std::uint8_t* px = &img.rgb[(std::size_t(y) * width + x) * 3];
-      px[0] = linearToSrgb8(c.r);
-      px[1] = linearToSrgb8(c.g);
-      px[2] = linearToSrgb8(c.b);
+  const float scale = std::exp2(exposureStops);
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < std::size_t(width) * height; ++i) {
+    glm::vec3 c = radiance[i];
+    if (!std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b)) {
+      ++bad;
+      c = glm::vec3(0.0f);
     }
+    c = acesFitted(c * scale);
+    img.rgb[i * 3 + 0] = linearToSrgb8(c.r);
+    img.rgb[i * 3 + 1] = linearToSrgb8(c.g);
+    img.rgb[i * 3 + 2] = linearToSrgb8(c.b);
+  }
+  if (nonFinite) *nonFinite = bad;
   return img;
 }
 

@@ -1,5 +1,5 @@
-// Turns a frame's primary-ray hits into a picture: a simple direct-light preview (sun + sky
-// ambient + emission, tone-mapped) until the GI core supplies indirect light, and PNG output.
+// Turns a frame's linear radiance into a picture -- exposure, a filmic tone map (ACES, Hill's
+// fitted RRT+ODT) and sRGB encoding -- and writes PNGs.
 #pragma once
 
 #include <cstdint>
@@ -9,8 +9,6 @@
 
 #include <glm/glm.hpp>
 
-#include "shaders/shared/sdf_layout.h"
-
 namespace sdfstream {
 
 struct Image8 {
@@ -19,16 +17,18 @@ struct Image8 {
   std::vector<std::uint8_t> rgb;  // row-major from the top-left pixel
 };
 
-struct PreviewLighting {
-  glm::vec3 sunDirection = glm::normalize(glm::vec3(0.4f, 0.8f, 0.3f));  // towards the sun
-  glm::vec3 sunColor{2.2f, 2.1f, 1.9f};
-  glm::vec3 skyColor{0.45f, 0.55f, 0.7f};
-  float exposure = 1.0f;
-};
+// ACES filmic curve on linear sRGB-primaries radiance (Stephen Hill's fit of the RRT+ODT, as in
+// BakingLab): input matrix -> rational fit -> output matrix, clamped to [0, 1]. Black stays
+// black; NaN and negative input become 0.
+glm::vec3 acesFitted(glm::vec3 linear);
 
-// Shades hits (as written by the trace pass) into an sRGB image. Misses show the sky gradient.
-Image8 shadeHits(std::span<const gpu_shared::TraceHit> hits, int width, int height,
-                 const PreviewLighting& lighting = {});
+// Radiance (row-major, width × height) × 2^exposureStops -> ACES fitted -> sRGB 8 bits.
+// Non-finite values become black (and are counted in *nonFinite when given).
+Image8 toneMap(std::span<const glm::vec3> radiance, int width, int height, float exposureStops,
+               std::size_t* nonFinite = nullptr);
+
+// Rec. 709 luminance of linear RGB.
+inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 // Writes a PNG atomically (temp file + rename). Throws InputError(Io) on failure.
 void writePng(const std::filesystem::path& path, const Image8& image);

@@ -1,5 +1,7 @@
 // sdfstream fly: drives a camera along a path over a world pack, streaming its tiles into the
-// cascade stack without ever waiting on disk, renders frames, and writes streaming metrics.
+// cascade stack without ever waiting on disk, updates the GI core on the streamed stack every
+// frame, renders frames shaded with direct + indirect light, and writes streaming and GI metrics.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,14 +12,16 @@
 #include "core/error.h"
 #include "demo/fly_path.h"
 #include "demo/frame_image.h"
+#include "demo/gi_shading.h"
 #include "demo/plot.h"
 #include "gi/camera.h"
-#include "gi/gpu_stack_tracer.h"
+#include "gpu/context.h"
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
 #include "streaming/stream_metrics.h"
 #include "tools/args.h"
 #include "tools/commands.h"
+#include "tools/view_renderer.h"
 
 namespace fs = std::filesystem;
 
@@ -57,20 +61,115 @@ void writePlots(const fs::path& dir, const std::vector<FrameMetrics>& frames) {
   writeChartPng(dir / "bytes.png", bytes);
 }
 
+// GI cost of one frame (gi.csv): the passes GiRenderer ran.
+struct GiFrameMetrics {
+  int frame = 0;
+  GiFrameStats gi;
+  std::vector<gpu::PassTiming> probePasses;
+  double shadeMilliseconds = 0.0;   // 0 when the frame was not rendered
+  double sampleMilliseconds = 0.0;  // 0 when the frame was not rendered
+};
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, std::size_t(p * double(v.size() - 1) + 0.5))];
+}
+
+void writeGiCsv(const fs::path& file, const std::vector<GiFrameMetrics>& frames) {
+  std::string csv =
+      "frame,light_ms,probe_ms,pages_relit,probes_updated,rays_traced,rays_cached,shade_ms,"
+      "sample_ms";
+  // The probe update's passes one by one, named as ProbeField::lastTimings names them (the union
+  // over all frames, in order of first appearance, so the columns stay fixed within a file).
+  std::vector<std::string> passes;
+  for (const auto& f : frames)
+    for (const auto& t : f.probePasses)
+      if (std::find(passes.begin(), passes.end(), t.name) == passes.end()) passes.push_back(t.name);
+  for (const std::string& p : passes) csv += "," + p + "_ms";
+  csv += "\n";
+  char row[256];
+  for (const auto& f : frames) {
+    std::snprintf(row, sizeof row, "%d,%.3f,%.3f,%u,%u,%u,%u,%.3f,%.3f", f.frame,
+                  f.gi.lightMilliseconds, f.gi.probeMilliseconds, f.gi.pagesRelit,
+                  f.gi.probes.probesUpdated, f.gi.probes.raysTraced, f.gi.probes.raysCached,
+                  f.shadeMilliseconds, f.sampleMilliseconds);
+    csv += row;
+    for (const std::string& p : passes) {
+      double ms = 0.0;
+      for (const auto& t : f.probePasses)
+        if (t.name == p) ms += t.milliseconds;
+      std::snprintf(row, sizeof row, ",%.3f", ms);
+      csv += row;
+    }
+    csv += "\n";
+  }
+  writeFileAtomically(file, csv.data(), csv.size());
+}
+
+std::string giSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi,
+                              const probe::ProbeFieldSettings& probes, std::size_t probeBytes) {
+  std::vector<double> probe, light, shade, sample, updated, traced;
+  for (const auto& f : frames) {
+    probe.push_back(f.gi.probeMilliseconds);
+    light.push_back(f.gi.lightMilliseconds);
+    updated.push_back(f.gi.probes.probesUpdated);
+    traced.push_back(f.gi.probes.raysTraced);
+    if (f.shadeMilliseconds > 0.0) shade.push_back(f.shadeMilliseconds);
+    if (f.sampleMilliseconds > 0.0) sample.push_back(f.sampleMilliseconds);
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double s = 0.0;
+    for (double x : v) s += x;
+    return v.empty() ? 0.0 : s / double(v.size());
+  };
+  char text[2048];
+  if (!gi) {
+    std::snprintf(text, sizeof text,
+                  "\n## GI\n\nOff (--gi off or --cpu): frames show direct light only. Shade pass "
+                  "(trace + direct light; GPU time, or wall time of the CPU reference) of rendered "
+                  "frames: mean %.2f ms, p99 %.2f ms.\n",
+                  mean(shade), percentile(shade, 0.99));
+    return text;
+  }
+  std::snprintf(
+      text, sizeof text,
+      "\n## GI\n\nGPU time per frame (gi.csv has every frame): the light cache relights pages "
+      "that streamed in or changed; the probe field (one 17^3 volume per cascade, %u rays per "
+      "probe, %.1f MiB) updates within its ray budget of %u rays per frame.\n\n"
+      "| pass | mean ms | p50 ms | p99 ms | max ms |\n|---|---|---|---|---|\n"
+      "| light cache | %.2f | %.2f | %.2f | %.2f |\n"
+      "| probe update (all passes) | %.2f | %.2f | %.2f | %.2f |\n"
+      "| shade_primary (rendered frames) | %.2f | %.2f | %.2f | %.2f |\n"
+      "| probe_sample (rendered frames) | %.2f | %.2f | %.2f | %.2f |\n\n"
+      "Probes updated per frame: mean %.0f; probe rays sphere-traced per frame: mean %.0f (the "
+      "rest come from the hit cache).\n",
+      probes.raysPerProbe, double(probeBytes) / (1 << 20), probes.rayBudget, mean(light),
+      percentile(light, 0.5), percentile(light, 0.99), percentile(light, 1.0), mean(probe),
+      percentile(probe, 0.5), percentile(probe, 0.99), percentile(probe, 1.0), mean(shade),
+      percentile(shade, 0.5), percentile(shade, 0.99), percentile(shade, 1.0), mean(sample),
+      percentile(sample, 0.5), percentile(sample, 0.99), percentile(sample, 1.0), mean(updated),
+      mean(traced));
+  return text;
+}
+
 }  // namespace
 
 int runFly(int argc, char** argv) {
   Args args(argc, argv, 2,
-            {"-o", "--path", "--speed", "--frames", "--width", "--height", "--image-every",
-             "--cascades", "--atlas-mib", "--upload-mib", "--device", "--loader-threads"},
+            renderValueOptions({"-o", "--path", "--speed", "--frames", "--width", "--height",
+                                "--image-every", "--cascades", "--atlas-mib", "--upload-mib",
+                                "--device", "--loader-threads"}),
             {"--help", "-h", "--cpu", "--no-pacing"});
   if (args.has("--help") || args.has("-h")) {
-    std::puts(
+    std::printf(
         "usage: sdfstream fly WORLD -o DIR [options]\n"
         "\n"
         "Flies a camera over a world pack (headless), streaming tiles into camera-centred\n"
-        "cascades without waiting on disk. Writes DIR/frames/frame-NNNN.png, DIR/metrics.csv,\n"
-        "DIR/summary.md, DIR/residency.png and DIR/bytes.png.\n"
+        "cascades without waiting on disk, and updates the GI (light cache + one probe volume\n"
+        "per cascade) on the streamed stack every frame. Frames are shaded with direct +\n"
+        "indirect light. Writes DIR/frames/frame-NNNN.png, DIR/metrics.csv, DIR/gi.csv (GI pass\n"
+        "times per frame), DIR/summary.md, DIR/residency.png and DIR/bytes.png.\n"
         "\n"
         "  --path FILE        waypoints, one 'x y z' per line (default: a route across the world)\n"
         "  --speed M/S        camera speed (default 80 m/s, a fast fly-over)\n"
@@ -82,7 +181,12 @@ int runFly(int argc, char** argv) {
         "  --atlas-mib N      shared brick atlas budget (default 96)\n"
         "  --upload-mib N     brick bytes uploaded per frame at most (default 16)\n"
         "  --loader-threads N tile loader threads (default 2)\n"
-        "  --device NAME | --cpu   GPU choice, or trace with the CPU reference");
+        "  --gi-frames N                     GI frames at the start of the path before the flight\n"
+        "                                    (default 0; they stream too, outside metrics.csv)\n"
+        "%s"
+        "  --device NAME | --cpu   GPU choice, or trace with the CPU reference (direct light "
+        "only)\n",
+        kRenderHelp);
     return 0;
   }
   if (args.positional().size() != 1 || !args.value("-o"))
@@ -99,6 +203,13 @@ int runFly(int argc, char** argv) {
   double speed = args.number("--speed", 80.0);
   int width = args.integer("--width", 320, 16, 4096), height = args.integer("--height", 180, 16, 4096);
   int imageEvery = args.integer("--image-every", std::max(1, frames / 6), 1, 100000);
+  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
+  // On a CPU Vulkan device (lavapipe) a full probe update of six cascades takes ~16 s a frame:
+  // the ray budget keeps a fly-through to about a second a frame there (updates rotate through
+  // the probes, nearest and in-view first).
+  const std::uint32_t defaultBudget = context && context->isSoftware() ? 1u << 16 : 1u << 21;
+  RenderOptions render = renderOptionsFromArgs(args, args.has("--cpu"), 0, defaultBudget);
+  const int warmup = args.value("--gi-frames") ? render.giFrames : 0;
 
   StreamingOptions so;
   so.cascades = args.integer("--cascades", 6, 1, 8);
@@ -110,17 +221,47 @@ int runFly(int argc, char** argv) {
   TileLoader loader(store, lo);
   CascadeStack stack(store, loader, so);
 
-  std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
-  std::unique_ptr<GpuStackTracer> tracer =
-      context ? std::make_unique<GpuStackTracer>(*context, stack) : nullptr;
+  std::unique_ptr<GiRenderer> renderer =
+      context ? std::make_unique<GiRenderer>(*context, render.renderer,
+                                             std::uint32_t(stack.cascadeCount()))
+              : nullptr;
   fs::create_directories(out / "frames");
-  std::printf("fly: %s, %d frames along %.0f m at %.1f m/s, %d cascades, atlas %.0f MiB, on %s\n",
-              world.c_str(), frames, length, speed, stack.cascadeCount(),
-              double(stack.atlasBytes()) / (1 << 20),
-              context ? context->deviceName().c_str() : "CPU reference");
+  std::printf(
+      "fly: %s, %d frames along %.0f m at %.1f m/s, %d cascades, atlas %.0f MiB, GI %s "
+      "(%u probe rays per frame), on %s\n",
+      world.c_str(), frames, length, speed, stack.cascadeCount(),
+      double(stack.atlasBytes()) / (1 << 20), render.gi ? "on" : "off",
+      render.renderer.settings.probes.rayBudget,
+      context ? context->deviceName().c_str() : "CPU reference");
+
+  auto cameraAt = [&](double s) {
+    Camera cam;
+    cam.position = path.position(s);
+    glm::dvec3 dir = path.direction(s);
+    cam.target = cam.position + glm::normalize(dir + glm::dvec3(0.0, -0.25, 0.0)) * 10.0;
+    cam.fovYDegrees = 60.0;
+    return cam;
+  };
+  std::uint64_t giFrame = 0;
+  // One GI frame on the stack as it stands: sync the atlas slots the stack rewrote, relight,
+  // update the probes.
+  auto giUpdate = [&](const Camera& cam) {
+    std::vector<std::uint32_t> dirty = stack.takeDirtySlots();
+    if (!renderer) return GiFrameStats{};
+    probe::ProbeFrameInputs inputs;
+    inputs.cameraWorld = cam.position;
+    inputs.viewDirection = glm::vec3(glm::normalize(cam.target - cam.position));
+    return renderer->update(stack, dirty, render.lights, inputs, giFrame++);
+  };
+  for (int w = 0; w < warmup; ++w) {
+    const Camera cam = cameraAt(0.0);
+    stack.update(cam.position, glm::normalize(cam.target - cam.position));
+    giUpdate(cam);
+  }
+  if (warmup > 0) loader.takeStats();
 
   std::vector<FrameMetrics> metrics;
-  TraceSettings settings;
+  std::vector<GiFrameMetrics> giMetrics;
   // Frames are paced at 30 per wall-clock second (unless --no-pacing) so the loader threads get
   // the same real time per frame as they would in an interactive application.
   const auto start = std::chrono::steady_clock::now();
@@ -128,12 +269,7 @@ int runFly(int argc, char** argv) {
     double seconds = f / 30.0;
     if (!args.has("--no-pacing"))
       std::this_thread::sleep_until(start + std::chrono::microseconds(std::int64_t(seconds * 1e6)));
-    double s = speed * seconds;
-    Camera cam;
-    cam.position = path.position(s);
-    glm::dvec3 dir = path.direction(s);
-    cam.target = cam.position + glm::normalize(dir + glm::dvec3(0.0, -0.25, 0.0)) * 10.0;
-    cam.fovYDegrees = 60.0;
+    const Camera cam = cameraAt(speed * seconds);
 
     FrameMetrics m;
     m.frame = f;
@@ -143,24 +279,36 @@ int runFly(int argc, char** argv) {
     m.stream = stack.update(cam.position, glm::normalize(cam.target - cam.position));
     m.updateMilliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::vector<std::uint32_t> dirty = stack.takeDirtySlots();
-    if (tracer) tracer->sync(stack, dirty);
+    GiFrameMetrics g;
+    g.frame = f;
+    g.gi = giUpdate(cam);
+    if (renderer) g.probePasses = renderer->lastTimes().probePasses;
     m.gpuBytes = stack.atlasBytes() + std::size_t(stack.cascadeCount()) * layout::kCascadePageCount * 4;
 
     if (f % imageEvery == 0 || f == frames - 1) {
       CascadeStackImage img = stack.stackImage();
-      auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
-      std::vector<gpu_shared::TraceHit> hits;
-      if (tracer) {
-        hits = tracer->trace(rays, settings);
-        m.traceMilliseconds = tracer->lastMilliseconds("trace_stack");
+      HdrFrame frame;
+      if (renderer) {
+        frame = renderer->render(cam, width, height, img, render.lights);
+        // The trace pass is now the shading pass: primary rays + their direct light.
+        m.traceMilliseconds = renderer->lastTimes().shadeMilliseconds;
+        g.shadeMilliseconds = m.traceMilliseconds;
+        g.sampleMilliseconds = renderer->lastTimes().sampleMilliseconds;
       } else {
-        hits = traceStackCpu(img, rays, settings);
+        auto rays = cameraRays(cam, width, height, img);
+        const auto t1 = std::chrono::steady_clock::now();
+        frame = composeFrame(shadePrimaryCpu(img, rays, toGpu(render.lights.lights, img),
+                                             toGpu(render.lights.sky), render.renderer.shading, {}),
+                             width, height, {}, {});
+        g.shadeMilliseconds =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1)
+                .count();
       }
       char name[64];
       std::snprintf(name, sizeof name, "frame-%04d.png", f);
-      writePng(out / "frames" / name, shadeHits(hits, width, height));
+      writePng(out / "frames" / name, toneMap(frame.final(), width, height, render.exposureStops));
     }
+    giMetrics.push_back(g);
     m.loader = loader.takeStats();
     metrics.push_back(std::move(m));
     if (f % std::max(1, frames / 10) == 0 || f == frames - 1)
@@ -170,8 +318,12 @@ int runFly(int argc, char** argv) {
 
   writeMetricsCsv(out / "metrics.csv", metrics);
   MetricsSummary summary = summarize(metrics);
+  writeGiCsv(out / "gi.csv", giMetrics);
+  const std::string giMd = giSummaryMarkdown(giMetrics, renderer && renderer->giEnabled(),
+                                             render.renderer.settings.probes,
+                                             renderer ? renderer->probeDeviceBytes() : 0);
   std::string md = "# Fly-through summary\n\nWorld: " + world.string() + "\n\n" +
-                   summaryMarkdown(summary);
+                   summaryMarkdown(summary) + giMd;
   auto failed = loader.failedTiles();
   if (!failed.empty()) {
     md += "\nTiles that failed to load (reported, never treated as empty):\n";
@@ -181,8 +333,10 @@ int runFly(int argc, char** argv) {
   }
   writeFileAtomically(out / "summary.md", md.data(), md.size());
   writePlots(out, metrics);
-  std::printf("fly: wrote %s (metrics.csv, summary.md, residency.png, bytes.png, frames/)\n%s",
-              out.c_str(), summaryMarkdown(summary).c_str());
+  std::printf(
+      "fly: wrote %s (metrics.csv, gi.csv, summary.md, residency.png, bytes.png, "
+      "frames/)\n%s%s",
+      out.c_str(), summaryMarkdown(summary).c_str(), giMd.c_str());
   return failed.empty() ? 0 : 1;
 }
 

@@ -1,46 +1,98 @@
-// Renders views of a World: places the cascade around the camera's target, traces primary
-// rays on the GPU (or with the CPU reference when no context is given) and shades a preview.
-// Used by `sdfstream render` and `sdfstream demo`.
+// Renders views of a World for `sdfstream render` and `sdfstream demo`: places one 128³ cascade
+// around the camera's target, turns it into a one-cascade stack, converges the GI probes on it
+// (camera fixed) and shades the view with direct + indirect light (demo/gi_shading.h). Without
+// a GPU (--cpu) it shades direct light with the CPU reference of the same pass.
+//
+// Also the command-line flags every rendering command shares (--gi, --gi-frames, --probe-rays,
+// --sun, --sky, --exposure, --direct) and their parsing.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "demo/frame_image.h"
+#include "demo/gi_shading.h"
 #include "gi/camera.h"
 #include "gi/cpu_tracer.h"
-#include "gi/gpu_tracer.h"
+#include "gi/light_cache.h"
+#include "tools/args.h"
 #include "world/world.h"
 
 namespace sdfstream {
 
+// What the shared rendering flags say.
+struct RenderOptions {
+  bool gi = true;
+  int giFrames = 24;           // GI frames before a still image (camera fixed)
+  GiRendererOptions renderer;  // probe settings (--probe-rays), shading (--direct)
+  SceneLights lights;          // --sun, --sky
+  float exposureStops = 0.0f;  // --exposure
+};
+
+namespace cli {
+// Value options to add to a command's Args (besides its own).
+std::set<std::string> renderValueOptions(std::set<std::string> own);
+// The help text of the shared rendering flags (lines starting with two spaces), without
+// --gi-frames, whose meaning differs: kStillGiFramesHelp is render's and demo's.
+extern const char* const kRenderHelp;
+extern const char* const kStillGiFramesHelp;
+// Parses the shared flags. cpu: the command runs without Vulkan, so GI is off (an explicit
+// `--gi on` is a usage error). defaultGiFrames / defaultProbeBudget: the command's defaults for
+// --gi-frames and --probe-budget.
+RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
+                                    std::uint32_t defaultProbeBudget = 1u << 21);
+}  // namespace cli
+
 struct ViewResult {
-  Image8 image;
+  HdrFrame frame;
+  Image8 image;          // final: direct + indirect, tone-mapped
+  Image8 directImage;    // direct light only (what --gi off shows)
+  Image8 indirectImage;  // indirect light only: albedo/π · E_indirect
   std::size_t rays = 0;
   std::size_t hits = 0;
-  double traceMilliseconds = 0.0;  // GPU timestamp of the trace pass, or CPU wall time
-  std::vector<gpu::PassTiming> passes;
+  std::size_t nonFinite = 0;              // pixels with NaN/Inf radiance (written black)
+  double shadeMilliseconds = 0.0;         // trace + direct light pass (GPU time, or CPU wall time)
+  double sampleMilliseconds = 0.0;        // probe_sample for every hit pixel
+  double lightMilliseconds = 0.0;         // light cache passes over this view's GI frames
+  std::vector<double> probeMilliseconds;  // probe update GPU time of each GI frame of this view
+  std::vector<gpu::PassTiming> probePasses;  // the last GI frame's probe passes
+  std::vector<glm::vec3> convergence;  // mean E_indirect over a fixed pixel subset, per GI frame
+  int framesToConverge = 0;            // GI frames after which the mean stays within 2% of the last
   std::uint32_t residentBricks = 0;
   std::size_t cascadeBytes = 0;
 };
 
 class ViewRenderer {
  public:
-  // context == nullptr: trace with the CPU reference.
-  ViewRenderer(const World& world, gpu::Context* context, TraceSettings settings = {});
+  // context == nullptr: direct light with the CPU reference (options.gi must be false).
+  ViewRenderer(const World& world, gpu::Context* context, const RenderOptions& options,
+               TraceSettings trace = {});
+  ~ViewRenderer();
+  // Converges the probes (the first view of a cascade window runs options.giFrames GI frames;
+  // later views of the same window reuse the converged probes) and shades the view.
   ViewResult render(const Camera& camera, int width, int height);
 
  private:
   const World& world_;
   gpu::Context* context_;
-  TraceSettings settings_;
-  std::unique_ptr<GpuTracer> gpu_;
+  RenderOptions options_;
   std::optional<CascadeImage> cascade_;
+  std::unique_ptr<CascadeStackImage> stack_;  // points into *cascade_
+  std::unique_ptr<GiRenderer> gpu_;
+  LightCacheCpu cpuLight_;
+  int framesOnWindow_ = 0;
+  std::uint64_t frame_ = 0;
 };
 
 // The default view: the whole world from the front-right, slightly above.
 Camera defaultCamera(const World& world);
+
+// Frames until convergence: the smallest n such that values n-1 .. end (0-based) all have a
+// luminance within `tolerance` (relative) of the last value's. 0 for an empty series.
+int framesToConverge(const std::vector<glm::vec3>& series, float tolerance = 0.02f);
 
 }  // namespace sdfstream

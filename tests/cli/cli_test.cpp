@@ -133,8 +133,10 @@ TEST(Cli, ImportRenderInfoAndHelp) {
   RunResult info = run("info " + (dir / "world").string());
   EXPECT_EQ(info.exitCode, 0) << info.err;
   EXPECT_NE(info.out.find("checksums  ok"), std::string::npos) << info.out;
-  RunResult render = run("render " + (dir / "world").string() + " -o " +
-                         (dir / "box.png").string() + " --width 64 --height 48");
+  // Two short GI frames: the default 24 converge the probes but cost a minute on lavapipe.
+  RunResult render =
+      run("render " + (dir / "world").string() + " -o " + (dir / "box.png").string() +
+          " --width 64 --height 48 --gi-frames 2 --probe-rays 32");
   EXPECT_EQ(render.exitCode, 0) << render.err;
   // scripts/test exports SDFSTREAM_VALIDATION=1: any validation message would land on stderr.
   EXPECT_EQ(render.err, "");
@@ -151,6 +153,44 @@ TEST(Cli, ImportRenderInfoAndHelp) {
   RunResult bogus = run("render " + (dir / "world").string() + " -o x.png --camera 1,2");
   EXPECT_EQ(bogus.exitCode, 2);
   EXPECT_EQ(lineCount(bogus.err), 1);
+}
+
+// The GI flags of the rendering commands: render shades with and without GI, writes the direct and
+// indirect layers, and rejects bad values with one line (exit 2).
+TEST(Cli, RenderGiFlags) {
+  fs::path dir = test::scratchDir("cli-gi");
+  RunResult imp = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                      " -o " + (dir / "world").string());
+  ASSERT_EQ(imp.exitCode, 0) << imp.err;
+  const std::string world = (dir / "world").string();
+  RunResult off =
+      run("render " + world + " -o " + (dir / "off.png").string() +
+          " --gi off --layers --width 48 --height 36 --sun 0.3,-1,-0.2,2 --sky 0.1,0.2,0.4");
+  EXPECT_EQ(off.exitCode, 0) << off.err;
+  EXPECT_EQ(off.err, "");
+  EXPECT_EQ(off.out.find("GI "), std::string::npos) << off.out;
+  RunResult on = run("render " + world + " -o " + (dir / "on.png").string() +
+                     " --gi on --gi-frames 2 --probe-rays 16 --layers --width 48 --height 36 "
+                     "--exposure -0.5");
+  EXPECT_EQ(on.exitCode, 0) << on.err;
+  EXPECT_EQ(on.err, "");  // no validation message (scripts/test sets SDFSTREAM_VALIDATION=1)
+  EXPECT_NE(on.out.find("GI 2 frames"), std::string::npos) << on.out;
+  for (const char* f : {"off.png", "off-direct.png", "off-indirect.png", "on.png", "on-direct.png",
+                        "on-indirect.png"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  for (const std::string bad : {"--gi maybe", "--cpu --gi on", "--sun 1,2", "--sky 1,2,3,4",
+                                "--direct sometimes", "--probe-rays 0"}) {
+    RunResult r = run("render " + world + " -o " + (dir / "bad.png").string() + " " + bad);
+    EXPECT_EQ(r.exitCode, 2) << bad;
+    EXPECT_EQ(lineCount(r.err), 1) << bad << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad.png")) << bad;
+  }
+  for (const char* cmd : {"render", "demo", "fly"}) {
+    RunResult help = run(std::string(cmd) + " --help");
+    EXPECT_EQ(help.exitCode, 0) << cmd;
+    for (const char* flag : {"--gi on|off", "--gi-frames", "--probe-rays", "--sun", "--sky"})
+      EXPECT_NE(help.out.find(flag), std::string::npos) << cmd << " --help lacks " << flag;
+  }
 }
 
 }  // namespace

@@ -1,0 +1,353 @@
+#include "demo/gi_shading.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/gtc/packing.hpp>
+
+#include "gpu/command_batch.h"
+#include "shaders/shared/color_codec.h"
+
+namespace sdfstream {
+namespace shade_detail {
+using namespace glm;
+using namespace gpu_shared;
+
+// The GLSL functions become member functions; the macros read this object's pointers, which
+// point into one CascadeStackImage, the light list and the light cache of one call.
+struct PrimaryShader {
+  const std::uint32_t* pageTable = nullptr;
+  const std::uint32_t* distanceAtlas = nullptr;
+  const std::uint32_t* albedoAtlas = nullptr;
+  const std::uint32_t* emissionAtlas = nullptr;
+  const CascadeTraceParams* cascades = nullptr;
+  const GpuLight* lights = nullptr;
+  const std::uint32_t* lightRadiance = nullptr;
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#define LIGHT_AT(i) lights[i]
+#define LIGHT_RADIANCE(m) lightRadiance[m]
+#include "shaders/sdf_trace.glsl"
+// light_math.glsl needs sdf_trace.glsl's functions and shade_primary.glsl both: keep the order.
+#include "shaders/light_math.glsl"
+#include "shaders/shade_primary.glsl"
+#undef SDF_PAGE
+#undef SDF_DIST_WORD
+#undef SDF_ALBEDO
+#undef SDF_EMISSION
+#undef SDF_CASCADE
+#undef LIGHT_AT
+#undef LIGHT_RADIANCE
+};
+
+// Threads spread over rows of 64 x 16384 (main() of shade_primary.comp), so a large image stays
+// within the 65535 workgroups per axis Vulkan guarantees.
+glm::uvec3 spread(std::uint32_t threads) {
+  constexpr std::uint32_t kRow = 64u * 16384u;
+  if (threads <= kRow) return {threads, 1, 1};
+  return {kRow, (threads + kRow - 1) / kRow, 1};
+}
+
+float srgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+}  // namespace shade_detail
+
+gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& settings,
+                                                  std::size_t rayCount, std::size_t lightCount,
+                                                  std::uint32_t cascadeCount,
+                                                  const gpu_shared::GpuSky& sky,
+                                                  double voxelSize0) {
+  assert(lightCount <= gpu_shared::kMaxLights);
+  gpu_shared::ShadePushConstants pc{};
+  pc.counts = glm::uvec4(std::uint32_t(rayCount), std::uint32_t(lightCount), cascadeCount,
+                         settings.trace.maxSteps);
+  pc.params = glm::vec4(float(voxelSize0), settings.trace.hitEpsilon, settings.shadowEpsilon, 0.0f);
+  pc.options = glm::uvec4(settings.direct, settings.shadowSteps, 0u, 0u);
+  pc.sky = sky;
+  return pc;
+}
+
+std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stack,
+                                                   std::span<const gpu_shared::TraceRay> rays,
+                                                   std::span<const gpu_shared::GpuLight> lights,
+                                                   const gpu_shared::GpuSky& sky,
+                                                   const ShadingSettings& settings,
+                                                   std::span<const std::uint32_t> lightRadiance) {
+  assert(settings.direct != gpu_shared::kShadeDirectCache ||
+         lightRadiance.size() >= stack.albedoAtlas->size());
+  const gpu_shared::ShadePushConstants pc =
+      shadePushConstants(settings, rays.size(), lights.size(), std::uint32_t(stack.params.size()),
+                         sky, stack.voxelSize0);
+  shade_detail::PrimaryShader shader{stack.pageTables.data(),   stack.distanceAtlas->data(),
+                                     stack.albedoAtlas->data(), stack.emissionAtlas->data(),
+                                     stack.params.data(),       lights.data(),
+                                     lightRadiance.data()};
+  std::vector<gpu_shared::ShadedHit> out(rays.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
+    auto local = shader;
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      out[i] = local.shadePrimary(rays[i], pc);
+  });
+  return out;
+}
+
+PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
+    : context_(context),
+      pipeline_(context, gpu::ShaderId::shade_primary,
+                gpu::PipelineDesc{9, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+      lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
+              gpu::BufferKind::Upload),
+      noRadiance_(context, 4, gpu::BufferKind::DeviceLocal) {}
+
+std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
+    const GpuStackScene& scene, const gpu::Buffer* lightRadiance,
+    std::span<const gpu_shared::TraceRay> rays, std::span<const gpu_shared::GpuLight> lights,
+    const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0) {
+  assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
+  milliseconds_ = 0.0;
+  if (rays.empty()) return {};
+  const std::size_t rayBytes = rays.size() * sizeof(gpu_shared::TraceRay);
+  const std::size_t outBytes = rays.size() * sizeof(gpu_shared::ShadedHit);
+  // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
+  if (rays_.size() < rayBytes) rays_ = gpu::Buffer(context_, rayBytes, gpu::BufferKind::Upload);
+  if (shaded_.size() < outBytes)
+    shaded_ = gpu::Buffer(context_, outBytes, gpu::BufferKind::Readback);
+  std::memcpy(rays_.mapped(), rays.data(), rayBytes);
+  if (!lights.empty())
+    std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
+  const gpu_shared::ShadePushConstants pc = shadePushConstants(
+      settings, rays.size(), lights.size(), scene.cascadeCount(), sky, voxelSize0);
+  gpu::CommandBatch batch = context_.beginBatch();
+  batch.dispatch(
+      "shade_primary", pipeline_,
+      {&rays_, &shaded_, &scene.pageTables(), &scene.distance(), &scene.albedo(), &scene.emission(),
+       &scene.params(), &lights_, lightRadiance ? lightRadiance : &noRadiance_},
+      &pc, sizeof pc, shade_detail::spread(pc.counts.x));
+  batch.submitAndWait();
+  for (const auto& t : batch.timings()) milliseconds_ += t.milliseconds;
+  std::vector<gpu_shared::ShadedHit> out(rays.size());
+  std::memcpy(out.data(), shaded_.mapped(), outBytes);
+  return out;
+}
+
+std::vector<glm::vec3> HdrFrame::final() const {
+  std::vector<glm::vec3> out(direct.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = direct[i] + indirect[i];
+  return out;
+}
+
+std::vector<gpu_shared::TraceRay> cameraRays(const Camera& camera, int width, int height,
+                                             const CascadeStackImage& stack) {
+  std::vector<gpu_shared::TraceRay> rays =
+      primaryRaysFrom(camera, width, height, stack.toStack(camera.position));
+  if (stack.params.empty()) return rays;
+  // Cascades are nested: the coarsest window holds every other one.
+  const gpu_shared::CascadeTraceParams& outer = stack.params.back();
+  const glm::vec3 lo(outer.offsetScale), hi = lo + glm::vec3(128.0f * outer.offsetScale.w);
+  // Step this far past the entry face, so the start point is inside the window (the window is
+  // half-open at its upper faces) yet still in the first cell along the ray.
+  const float inset = 1e-3f;
+  for (gpu_shared::TraceRay& r : rays) {
+    const glm::vec3 o(r.originTMin), d(r.dirTMax);
+    float tEnter = r.originTMin.w, tExit = r.dirTMax.w;
+    for (int a = 0; a < 3; ++a) {
+      if (d[a] == 0.0f) {
+        if (o[a] < lo[a] || o[a] >= hi[a]) tEnter = tExit + 1.0f;  // parallel, outside
+        continue;
+      }
+      const float t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
+      tEnter = std::max(tEnter, std::min(t0, t1));
+      tExit = std::min(tExit, std::max(t0, t1));
+    }
+    const bool inside =
+        o.x >= lo.x && o.y >= lo.y && o.z >= lo.z && o.x < hi.x && o.y < hi.y && o.z < hi.z;
+    if (!inside) r.originTMin.w = tEnter <= tExit ? tEnter + inset : r.dirTMax.w * 2.0f;
+  }
+  return rays;
+}
+
+std::vector<gpu_shared::ProbeQuery> probeQueries(std::span<const gpu_shared::ShadedHit> shaded,
+                                                 std::span<const gpu_shared::TraceRay> rays,
+                                                 std::vector<std::uint32_t>& pixels) {
+  assert(shaded.size() == rays.size());
+  std::vector<gpu_shared::ProbeQuery> queries;
+  pixels.clear();
+  for (std::size_t i = 0; i < shaded.size(); ++i) {
+    const gpu_shared::ShadedHit& h = shaded[i];
+    if (!(h.flags & gpu_shared::kHitFlagHit)) continue;
+    const glm::vec3 dir(rays[i].dirTMax);
+    const glm::vec3 hit = glm::vec3(rays[i].originTMin) + dir * h.normalT.w;
+    gpu_shared::ProbeQuery q{};
+    q.position = glm::vec4(hit, 0.0f);  // w = 0: blend across all cascades
+    q.normal = glm::vec4(glm::vec3(h.normalT), 0.0f);
+    q.view = glm::vec4(-dir, 0.0f);
+    queries.push_back(q);
+    pixels.push_back(std::uint32_t(i));
+  }
+  return queries;
+}
+
+HdrFrame composeFrame(std::span<const gpu_shared::ShadedHit> shaded, int width, int height,
+                      std::span<const std::uint32_t> pixels,
+                      std::span<const glm::vec3> indirectIrradiance) {
+  assert(shaded.size() == std::size_t(width) * height);
+  assert(indirectIrradiance.empty() || indirectIrradiance.size() == pixels.size());
+  HdrFrame f;
+  f.width = width;
+  f.height = height;
+  f.direct.resize(shaded.size());
+  f.indirect.assign(shaded.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i < shaded.size(); ++i) {
+    f.direct[i] = glm::vec3(shaded[i].direct);
+    if (shaded[i].flags & gpu_shared::kHitFlagHit) ++f.hits;
+  }
+  constexpr float kInvPi = 0.3183098861837907f;
+  for (std::size_t q = 0; q < indirectIrradiance.size(); ++q) {
+    const std::uint32_t p = pixels[q];
+    const glm::vec4 a = gpu_shared::unpackAlbedo(shaded[p].albedo);
+    const glm::vec3 albedo(shade_detail::srgbToLinear(a.r), shade_detail::srgbToLinear(a.g),
+                           shade_detail::srgbToLinear(a.b));
+    f.indirect[p] = albedo * kInvPi * indirectIrradiance[q];
+  }
+  return f;
+}
+
+CascadeStackImage stackImageOf(const CascadeImage& cascade) {
+  CascadeStackImage img;
+  img.pageTables = cascade.pageTable;
+  img.distanceAtlas = &cascade.distanceAtlas;
+  img.albedoAtlas = &cascade.albedoAtlas;
+  img.emissionAtlas = &cascade.emissionAtlas;
+  gpu_shared::CascadeTraceParams p{};
+  p.offsetScale = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  p.toroidal = cascade.toroidalOffset();  // w = 0: the first (only) page table
+  img.params = {p};
+  img.voxelSize0 = cascade.voxelSize;
+  img.cascade0MinWorld = cascade.toWorld(glm::vec3(0.0f));
+  img.originBricks = {cascade.originBrick};
+  return img;
+}
+
+SceneLights defaultSceneLights(glm::vec3 sunTravelDirection, float sunIrradiance,
+                               glm::vec3 skyZenith, glm::vec3 skyHorizon) {
+  SceneLights l;
+  SceneLight sun;
+  sun.type = SceneLight::Type::Sun;
+  sun.direction = glm::normalize(sunTravelDirection);
+  sun.color = glm::vec3(1.0f, 0.96f, 0.88f);  // a little warmer than the sky
+  sun.intensity = sunIrradiance;
+  sun.shadowSharpness = 24.0f;
+  if (sunIrradiance > 0.0f) l.lights.push_back(sun);
+  l.sky.zenith = skyZenith;
+  l.sky.horizon = skyHorizon;
+  return l;
+}
+
+GiRenderer::GiRenderer(gpu::Context& context, const GiRendererOptions& options,
+                       std::uint32_t cascades)
+    : context_(context), options_(options), shade_(context) {
+  if (options.gi) {
+    gi_ = std::make_unique<GiSystem>(context, options.settings, cascades);
+  } else {
+    scene_ = std::make_unique<GpuStackScene>(context);
+    if (options.shading.direct == gpu_shared::kShadeDirectCache)
+      light_ = std::make_unique<LightCache>(context, options.settings.light);
+  }
+}
+
+GiRenderer::~GiRenderer() = default;
+
+const GpuStackScene& GiRenderer::scene() const { return gi_ ? gi_->scene() : *scene_; }
+
+const gpu::Buffer* GiRenderer::lightRadiance() const {
+  if (gi_) return &gi_->lightCache().radianceBuffer();
+  return light_ ? &light_->radianceBuffer() : nullptr;
+}
+
+std::size_t GiRenderer::probeDeviceBytes() const { return gi_ ? gi_->probes().deviceBytes() : 0; }
+
+GiFrameStats GiRenderer::updateDirectOnly(const CascadeStackImage& image,
+                                          const SceneLights& lights) {
+  GiFrameStats stats;
+  if (light_) {
+    const bool lightsChanged = lights.version != lightsVersion_;
+    lightsVersion_ = lights.version;
+    const auto dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
+    light_->update(*scene_, toGpu(lights.lights, image), toGpu(lights.sky), dirty,
+                   image.voxelSize0);
+    stats.pagesRelit = light_->pagesRelitLastUpdate();
+    for (const auto& t : light_->lastTimings()) stats.lightMilliseconds += t.milliseconds;
+    previous_ = std::make_unique<CascadeStackImage>(image);
+  }
+  return stats;
+}
+
+GiFrameStats GiRenderer::update(const CascadeStackImage& image, const SceneLights& lights,
+                                const probe::ProbeFrameInputs& inputs, std::uint64_t frame) {
+  times_.probePasses.clear();
+  if (gi_) {
+    times_.gi = gi_->update(image, lights, inputs, frame);
+    times_.probePasses = gi_->probes().lastTimings();
+  } else {
+    scene_->uploadAll(image);
+    times_.gi = updateDirectOnly(image, lights);
+  }
+  return times_.gi;
+}
+
+GiFrameStats GiRenderer::update(const CascadeStack& stack, std::span<const std::uint32_t> dirty,
+                                const SceneLights& lights, const probe::ProbeFrameInputs& inputs,
+                                std::uint64_t frame) {
+  times_.probePasses.clear();
+  if (gi_) {
+    times_.gi = gi_->update(stack, dirty, lights, inputs, frame);
+    times_.probePasses = gi_->probes().lastTimings();
+  } else {
+    scene_->sync(stack, dirty);
+    times_.gi = light_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
+  }
+  return times_.gi;
+}
+
+ShadedView GiRenderer::shade(const Camera& camera, int width, int height,
+                             const CascadeStackImage& image, const SceneLights& lights) {
+  ShadedView v;
+  v.width = width;
+  v.height = height;
+  v.rays = cameraRays(camera, width, height, image);
+  v.shaded = shade_.run(scene(), lightRadiance(), v.rays, toGpu(lights.lights, image),
+                        toGpu(lights.sky), options_.shading, image.voxelSize0);
+  times_.shadeMilliseconds = shade_.lastMilliseconds();
+  v.queries = probeQueries(v.shaded, v.rays, v.pixels);
+  return v;
+}
+
+HdrFrame GiRenderer::finish(const ShadedView& view) {
+  times_.sampleMilliseconds = 0.0;
+  std::vector<glm::vec3> irradiance;
+  if (gi_ && !view.queries.empty()) {  // (no queries: no sample pass, no time of its own)
+    irradiance = gi_->irradiance(view.queries);
+    times_.sampleMilliseconds = gi_->lastSampleMilliseconds();
+  }
+  return composeFrame(view.shaded, view.width, view.height, view.pixels, irradiance);
+}
+
+glm::vec3 GiRenderer::meanIrradiance(std::span<const gpu_shared::ProbeQuery> queries) {
+  if (!gi_ || queries.empty()) return glm::vec3(0.0f);
+  const auto e = gi_->irradiance(queries);
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& v : e) sum += glm::dvec3(v);
+  return glm::vec3(sum / double(e.size()));
+}
+
+}  // namespace sdfstream

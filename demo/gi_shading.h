@@ -1,0 +1,185 @@
+// Final shading of the demo frames with the GI core (issue 5 "the demo shades its frames with
+// it"): each primary ray is traced through the cascade stack and shaded on the GPU
+// (shade_primary.comp: emission + albedo/π · E_direct, or the sky on a miss), then the probe
+// field adds albedo/π · E_indirect, E_indirect = GiSystem::irradiance(x, n, view) batched over
+// every hit pixel. The result is linear radiance per pixel, kept as its direct and indirect
+// parts so a reader can see the indirect light alone; demo/frame_image.h tone-maps it.
+//
+// Used by `sdfstream render`, `demo` (one cascade built from the world, tools/view_renderer.h)
+// and `fly` (the streaming stack). Thread safety: as for the gpu::Context.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gi/camera.h"
+#include "gi/cpu_tracer.h"
+#include "gi/gi_system.h"
+#include "gi/gpu_stack_scene.h"
+#include "gi/light_cache.h"
+#include "gi/scene_lights.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
+#include "shaders/shared/shade_layout.h"
+#include "streaming/cascade.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream {
+
+struct ShadingSettings {
+  TraceSettings trace;                                   // primary rays
+  std::uint32_t direct = gpu_shared::kShadeDirectPixel;  // kShadeDirect* (shade_layout.h)
+  std::uint32_t shadowSteps = 128;  // per shadow ray, all cascades (as the light cache)
+  float shadowEpsilon = 0.02f;      // voxels
+};
+
+// The push constants both implementations of the shading pass run on. Asserts at most
+// kMaxLights lights.
+gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& settings,
+                                                  std::size_t rayCount, std::size_t lightCount,
+                                                  std::uint32_t cascadeCount,
+                                                  const gpu_shared::GpuSky& sky, double voxelSize0);
+
+// CPU reference of shade_primary.comp (same GLSL compiled as C++, TBB over rays). Rays in
+// cascade-0 voxels of `stack`; lights from toGpu(lights, stack). `lightRadiance` (one RGB9E5 per
+// atlas material voxel, LightCacheCpu::radiance()) is read only with kShadeDirectCache and may be
+// empty otherwise.
+std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stack,
+                                                   std::span<const gpu_shared::TraceRay> rays,
+                                                   std::span<const gpu_shared::GpuLight> lights,
+                                                   const gpu_shared::GpuSky& sky,
+                                                   const ShadingSettings& settings,
+                                                   std::span<const std::uint32_t> lightRadiance);
+
+// The GPU shading pass. Owns its ray/result/light buffers (grown on demand).
+class PrimaryShadePass {
+ public:
+  explicit PrimaryShadePass(gpu::Context& context);
+  // Traces and shades `rays` against `scene` (synced to the stack the rays refer to); blocking.
+  // lightRadiance: the light cache atlas (read with kShadeDirectCache), or nullptr.
+  std::vector<gpu_shared::ShadedHit> run(const GpuStackScene& scene,
+                                         const gpu::Buffer* lightRadiance,
+                                         std::span<const gpu_shared::TraceRay> rays,
+                                         std::span<const gpu_shared::GpuLight> lights,
+                                         const gpu_shared::GpuSky& sky,
+                                         const ShadingSettings& settings, double voxelSize0);
+  double lastMilliseconds() const { return milliseconds_; }
+
+ private:
+  gpu::Context& context_;
+  gpu::ComputePipeline pipeline_;
+  gpu::Buffer rays_, shaded_, lights_, noRadiance_;
+  double milliseconds_ = 0.0;
+};
+
+// Linear radiance of one frame, split so each part can be written alone. Row-major from the
+// top-left pixel. final = direct + indirect.
+struct HdrFrame {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> direct;    // hits: emission + albedo/π · E_direct; misses: the sky
+  std::vector<glm::vec3> indirect;  // hits: albedo/π · E_indirect; misses: 0
+  std::size_t hits = 0;
+  std::vector<glm::vec3> final() const;
+};
+
+// One primary ray per pixel (primaryRaysFrom) in cascade-0 voxels of `stack`, each starting where
+// it enters the stack's outermost window: the stack traversal starts a ray only inside a window,
+// and render/demo place the camera outside their one cascade. Rays that never enter it get
+// tMin > tMax (a miss).
+std::vector<gpu_shared::TraceRay> cameraRays(const Camera& camera, int width, int height,
+                                             const CascadeStackImage& stack);
+
+// Probe queries for the hit pixels of `shaded` (rays in cascade-0 voxels): position = the hit
+// point, normal = the SDF normal, view = -ray direction. pixels[i] = the pixel of query i.
+std::vector<gpu_shared::ProbeQuery> probeQueries(std::span<const gpu_shared::ShadedHit> shaded,
+                                                 std::span<const gpu_shared::TraceRay> rays,
+                                                 std::vector<std::uint32_t>& pixels);
+// Builds the frame from shaded hits and the irradiance E_indirect of each query (empty: no GI).
+HdrFrame composeFrame(std::span<const gpu_shared::ShadedHit> shaded, int width, int height,
+                      std::span<const std::uint32_t> pixels,
+                      std::span<const glm::vec3> indirectIrradiance);
+
+// A one-cascade stack image over a single cascade window (render/demo): params offset 0, scale
+// 1, toroidal from originBrick mod 16. Points into `cascade`'s atlas, which must outlive it.
+CascadeStackImage stackImageOf(const CascadeImage& cascade);
+
+// The default light rig of the demo views: sun + gradient sky (linear RGB, scene radiance scale).
+SceneLights defaultSceneLights(glm::vec3 sunTravelDirection, float sunIrradiance,
+                               glm::vec3 skyZenith, glm::vec3 skyHorizon);
+
+struct GiRendererOptions {
+  bool gi = true;  // false: direct light only (no probe field is allocated or updated)
+  GiSettings settings;
+  ShadingSettings shading;
+};
+
+struct GiFrameTimes {
+  GiFrameStats gi;                           // light cache and probe passes (zero with GI off)
+  std::vector<gpu::PassTiming> probePasses;  // the last update's probe passes, one by one
+  double shadeMilliseconds = 0.0;            // shade_primary pass (trace + direct light)
+  double sampleMilliseconds = 0.0;           // probe_sample pass (irradiance queries)
+};
+
+// A view traced and shaded with direct light, waiting for its indirect light.
+struct ShadedView {
+  int width = 0, height = 0;
+  std::vector<gpu_shared::TraceRay> rays;  // cascade-0 voxels of the stack it was traced in
+  std::vector<gpu_shared::ShadedHit> shaded;
+  std::vector<gpu_shared::ProbeQuery> queries;  // one per hit pixel (probeQueries)
+  std::vector<std::uint32_t> pixels;            // the pixel of each query
+};
+
+// The GI core and the shading pass for a sequence of frames on one GPU. With GI off it keeps the
+// stack's device copy itself (and the light cache only for kShadeDirectCache).
+class GiRenderer {
+ public:
+  GiRenderer(gpu::Context& context, const GiRendererOptions& options, std::uint32_t cascades);
+  ~GiRenderer();
+
+  // One frame: sync the stack (whole image / streamed dirty slots), relight, update probes.
+  GiFrameStats update(const CascadeStackImage& image, const SceneLights& lights,
+                      const probe::ProbeFrameInputs& inputs, std::uint64_t frame);
+  GiFrameStats update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
+                      const SceneLights& lights, const probe::ProbeFrameInputs& inputs,
+                      std::uint64_t frame);
+
+  // Traces and shades one view of the last updated stack (`image` is that stack), direct light
+  // only; blocking. The shading does not depend on the probes, so a still image can be shaded
+  // once and finished after the probes have converged.
+  ShadedView shade(const Camera& camera, int width, int height, const CascadeStackImage& image,
+                   const SceneLights& lights);
+  // Adds the current probes' indirect light (nothing with GI off); blocking.
+  HdrFrame finish(const ShadedView& view);
+  HdrFrame render(const Camera& camera, int width, int height, const CascadeStackImage& image,
+                  const SceneLights& lights) {
+    return finish(shade(camera, width, height, image, lights));
+  }
+  // Mean E_indirect over a fixed subset of receivers (a convergence probe; 0 with GI off).
+  glm::vec3 meanIrradiance(std::span<const gpu_shared::ProbeQuery> queries);
+
+  const GiFrameTimes& lastTimes() const { return times_; }
+  bool giEnabled() const { return gi_ != nullptr; }
+  std::size_t probeDeviceBytes() const;
+
+ private:
+  const GpuStackScene& scene() const;
+  const gpu::Buffer* lightRadiance() const;
+  GiFrameStats updateDirectOnly(const CascadeStackImage& image, const SceneLights& lights);
+
+  gpu::Context& context_;
+  GiRendererOptions options_;
+  std::unique_ptr<GiSystem> gi_;                 // GI on
+  std::unique_ptr<GpuStackScene> scene_;         // GI off
+  std::unique_ptr<LightCache> light_;            // GI off with kShadeDirectCache
+  std::unique_ptr<CascadeStackImage> previous_;  // GI off: for the light cache's dirty pages
+  std::uint64_t lightsVersion_ = ~std::uint64_t(0);
+  PrimaryShadePass shade_;
+  GiFrameTimes times_;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,52 @@
+// The primary-hit shading pass of the demo frames (shaders/shade_primary.comp, math in
+// shaders/shade_primary.glsl, CPU reference in demo/gi_shading.cpp): its push constants and its
+// per-pixel result, shared by C++ and GLSL (STYLE.md habit 1).
+//
+// Units: rays in cascade-0 voxels relative to cascade 0's minimum corner (the stack traversal's
+// space, CascadeStackImage::toStack); radiance linear RGB in the scene's radiance scale
+// (shaders/shared/light_layout.h).
+#ifndef SDFSTREAM_SHADE_LAYOUT_H
+#define SDFSTREAM_SHADE_LAYOUT_H
+
+#include "shaders/shared/glsl_cpp.h"
+#include "shaders/shared/light_layout.h"
+
+SDF_BEGIN_NAMESPACE
+
+// Where a hit's direct light comes from (ShadePushConstants.options.x).
+SDF_CONST uint kShadeDirectPixel = 0u;  // lightIrradiance (light_math.glsl) at the hit point
+                                        // itself: SDF soft shadows per pixel
+SDF_CONST uint kShadeDirectCache = 1u;  // the static light cache's RGB9E5 value of the hit's
+                                        // material voxel (one value per voxel, blockier)
+
+struct ShadePushConstants {
+  uvec4 counts;   // x: rays; y: lights (<= kMaxLights); z: cascades; w: trace max steps (0..15)
+  vec4 params;    // x: cascade-0 voxel size (m); y: trace hit epsilon (voxels);
+                  // z: shadow hit epsilon (voxels); w unused                        (16..31)
+  uvec4 options;  // x: kShadeDirect*; y: shadow max steps; zw unused                (32..47)
+  GpuSky sky;     // seen by rays that miss                                          (48..79)
+};
+
+// One pixel's primary hit and its direct radiance. t < 0 (normalT.w) means a miss.
+struct ShadedHit {
+  vec4 normalT;   // xyz: unit SDF normal at the hit; w: hit distance, cascade-0 voxels (0..15)
+  vec4 direct;    // rgb: hit: outgoing direct radiance, emission + albedo/π · E_direct;
+                  // miss: sky radiance along the ray. w: 0                          (16..31)
+  uint albedo;    // RGBA8 sRGB-encoded albedo of the hit material voxel (0 on a miss) (32..35)
+  uint emission;  // RGB9E5 linear emission of the hit material voxel               (36..39)
+  uint steps;     // sphere-tracing iterations of the primary ray                   (40..43)
+  uint flags;     // kHitFlag* bits and the hit cascade (sdf_layout.h)              (44..47)
+};
+
+SDF_END_NAMESPACE
+
+#ifdef __cplusplus
+#include <cstddef>
+static_assert(sizeof(sdfstream::gpu_shared::ShadePushConstants) == 80);
+static_assert(offsetof(sdfstream::gpu_shared::ShadePushConstants, sky) == 48);
+static_assert(sizeof(sdfstream::gpu_shared::ShadedHit) == 48);
+static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, albedo) == 32);
+static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, flags) == 44);
+#endif
+
+#endif
