@@ -5,7 +5,7 @@
 namespace sdfstream::probe {
 namespace {
 using gpu_shared::ProbePushConstants;
-constexpr std::uint32_t kBindings = 20;
+constexpr std::uint32_t kBindings = 22;
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
@@ -56,7 +56,9 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       pageChanged_(context, std::size_t(cascades) * 128 * 4, gpu::BufferKind::Upload),
       statsReadback_(context, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback),
       queries_(context, sizeof(gpu_shared::ProbeQuery), gpu::BufferKind::Upload),
-      results_(context, 16, gpu::BufferKind::Readback) {
+      results_(context, 16, gpu::BufferKind::Readback),
+      dispatchArgs_(deviceBuffer(context, 9 * 4)),
+      rayDirs_(deviceBuffer(context, sizes_.rays * 16)) {
   reset();
 }
 
@@ -73,7 +75,8 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
   return {&frame_,      &volumes_,          &data_,         &history_,          &irradiance_,
           &depth_,      &rays_,             &cache_,        &rotations_,        &list_,
           &statsBuffer_, &pageChanged_,      &scene.pageTables(), &scene.distance(), &scene.albedo(),
-          &scene.emission(), &scene.params(), &light,        &queries_,          &results_};
+          &scene.emission(), &scene.params(), &light,        &queries_,          &results_,
+          &dispatchArgs_, &rayDirs_};
 }
 
 void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& image,
@@ -97,6 +100,7 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   const ProbePushConstants classify = push(0, probes);
   const ProbePushConstants count = push(gpu_shared::kProbeSelectModeCount, probes);
   const ProbePushConstants emit = push(gpu_shared::kProbeSelectModeEmit, probes);
+  const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
   const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
   const ProbePushConstants interior =
       push(gpu_shared::kProbeBlendModeInterior, capacity * gpu_shared::kProbeBlendTexelsPerProbe);
@@ -108,10 +112,11 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
   batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));
   batch.dispatch("probe_select_emit", select_, b, &emit, sizeof emit, spread(probes));
-  // Dispatched for the whole capacity; invocations past the list's length return at once.
-  batch.dispatch("probe_trace", trace_, b, &trace, sizeof trace, spread(trace.dispatch.y));
-  batch.dispatch("probe_blend", blend_, b, &interior, sizeof interior, spread(interior.dispatch.y));
-  batch.dispatch("probe_border", blend_, b, &border, sizeof border, spread(border.dispatch.y));
+  batch.dispatch("probe_select_args", select_, b, &args, sizeof args, {1, 1, 1});
+  // Sized on the GPU by the list's length: sleeping and off probes launch no thread at all.
+  batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
+  batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
+  batch.dispatchIndirect("probe_border", blend_, b, &border, sizeof border, dispatchArgs_, 24);
   batch.copy(statsBuffer_, statsReadback_, gpu_shared::kProbeStatCount * 4);
   batch.submitAndWait();
   timings_ = batch.timings();

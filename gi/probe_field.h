@@ -1,7 +1,7 @@
 // The probe field on the GPU (issue 5): one DDGI probe volume per SDF cascade, updated each
 // frame by compute passes over storage buffers --
 //   classify (scroll reset, SDF relocation, states, hit-cache invalidation; every probe)
-//   -> select (count per priority class, then append within the ray budget)
+//   -> select (count per priority class, append within the ray budget, size the next passes)
 //   -> trace + shade (hit cache, else sphere tracing through the stack; light cache + previous
 //      irradiance at hits; sky at misses) -> blend interior texels -> copy borders
 // and irradiance(x, n, view) queries across cascades (probe_sample.comp). The math is
@@ -40,7 +40,7 @@ class ProbeField {
   const ProbeFieldSettings& settings() const { return settings_; }
   const ProbeFieldStats& lastStats() const { return stats_; }
   // GPU time per pass of the last update() or sample(): probe_classify, probe_select_count,
-  // probe_select_emit, probe_trace, probe_blend, probe_border / probe_sample.
+  // probe_select_emit, probe_select_args, probe_trace, probe_blend, probe_border / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
   std::size_t deviceBytes() const { return sizes_.bytes(); }
@@ -64,6 +64,8 @@ class ProbeField {
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
       list_, statsBuffer_, pageChanged_, statsReadback_;
   gpu::Buffer queries_, results_;
+  gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
+  gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   ProbeFieldStats stats_;
   std::vector<gpu::PassTiming> timings_;
 };

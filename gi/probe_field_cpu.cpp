@@ -34,11 +34,13 @@ struct FieldPasses {
   glm::vec4* irradiance = nullptr;
   glm::vec2* depth = nullptr;
   glm::vec4* rays = nullptr;
+  glm::vec4* rayDirs = nullptr;
   glm::vec4* probeData = nullptr;
   glm::uvec4* history = nullptr;
   glm::uvec2* hitCache = nullptr;
   std::uint32_t* updateList = nullptr;
   std::uint32_t* stats = nullptr;
+  std::uint32_t* dispatchArgs = nullptr;  // unused on the CPU (it loops to the list's length)
 
   static std::uint32_t atomicAdd(std::uint32_t& x, std::uint32_t v) {
     return std::atomic_ref<std::uint32_t>(x).fetch_add(v);
@@ -61,6 +63,8 @@ struct FieldPasses {
 #undef PROBE_IRRADIANCE
 #undef PROBE_DEPTH
 #undef PROBE_RAY
+#undef PROBE_RAY_DIR
+#undef PROBE_DISPATCH_ARGS
 #undef PROBE_VOLUME
 #undef PROBE_DATA
 #undef PROBE_HISTORY
@@ -75,7 +79,7 @@ struct FieldPasses {
 }  // namespace field_detail
 
 std::size_t ProbeFieldSizes::bytes() const {
-  return probes * (16 + 16) + irradianceTexels * 16 + depthTexels * 8 + rays * 16 +
+  return probes * (16 + 16) + irradianceTexels * 16 + depthTexels * 8 + rays * 32 +
          cacheEntries * 8;
 }
 
@@ -115,6 +119,7 @@ void ProbeFieldCpu::reset() {
   irradiance_.assign(z.irradianceTexels, glm::vec4(0.0f));
   depth_.assign(z.depthTexels, glm::vec2(0.0f));
   rays_.assign(z.rays, glm::vec4(0.0f));
+  rayDirs_.assign(z.rays, glm::vec4(0.0f));
   cache_.assign(z.cacheEntries, glm::uvec2(0u));
   list_.assign(settings_.listCapacity(cascades_), 0u);
   rawStats_.assign(gpu_shared::kProbeStatCount, 0u);
@@ -135,6 +140,7 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   base.irradiance = irradiance_.data();
   base.depth = depth_.data();
   base.rays = rays_.data();
+  base.rayDirs = rayDirs_.data();
   base.probeData = data_.data();
   base.history = history_.data();
   base.hitCache = cache_.data();

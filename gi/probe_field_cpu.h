@@ -21,7 +21,7 @@ struct ProbeFieldSizes {
   std::size_t probes = 0;           // volumes x probes per volume
   std::size_t irradianceTexels = 0; // vec4 each
   std::size_t depthTexels = 0;      // vec2 each
-  std::size_t rays = 0;             // vec4 each (list capacity x rays per probe)
+  std::size_t rays = 0;             // 2 vec4 each: result, direction (list capacity x rays)
   std::size_t cacheEntries = 0;     // uvec2 each (probes x rotations x rays; 1 when off)
   std::size_t bytes() const;
 };
@@ -78,7 +78,7 @@ class ProbeFieldCpu {
   std::vector<glm::uvec4> history_;
   std::vector<glm::vec4> irradiance_;
   std::vector<glm::vec2> depth_;
-  std::vector<glm::vec4> rays_;
+  std::vector<glm::vec4> rays_, rayDirs_;
   std::vector<glm::uvec2> cache_;
   std::vector<std::uint32_t> list_;
   std::vector<std::uint32_t> rawStats_;

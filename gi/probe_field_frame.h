@@ -24,7 +24,7 @@ struct ProbeFieldSettings {
   std::uint32_t raysPerProbe = gpu_shared::kProbeDefaultRays;
   float irradianceHysteresis = gpu_shared::kProbeDefaultHysteresis;
   float depthHysteresis = gpu_shared::kProbeDefaultHysteresis;
-  float vigilantHysteresis = 0.5f;  // new probes and probes after a light change (M21 Sec. 5)
+  float vigilantHysteresis = 0.3f;  // new probes and probes after a light change (M21 Sec. 5)
   std::uint32_t vigilantFrames = 8;
   bool adaptiveHysteresis = true;   // per-texel change heuristic (M21 Sec. 4.3)
   float maxDepthSpacings = 2.0f * 1.7320508f;  // depth a miss records, in probe spacings
@@ -43,7 +43,8 @@ struct ProbeFieldSettings {
                                     // x rays x rotations x 8 bytes)
   bool states = true;               // M21 Sec. 5 probe states
   std::uint32_t sleepPeriod = 8;    // sleeping probes refresh every this many frames
-  float sleepThreshold = 0.02f;     // relative mean change below which an update is "quiet"
+  float sleepThreshold = 0.05f;     // an update is "quiet" when its fresh estimate of the mean
+                                    // irradiance is within this of the stored one
   bool relocation = true;           // SDFDDGI Sec. 4.1
   float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
   enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };

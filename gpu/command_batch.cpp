@@ -11,11 +11,14 @@
 namespace sdfstream::gpu {
 namespace {
 
-constexpr VkPipelineStageFlags kWorkStages =
-    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+// DRAW_INDIRECT: dispatchIndirect reads its group counts from a buffer an earlier pass wrote.
+constexpr VkPipelineStageFlags kWorkStages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                                             VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT;
 constexpr VkAccessFlags kWrites = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
 constexpr VkAccessFlags kReadsWrites = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+                                       VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT |
+                                       VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
 
 // A global memory barrier: cheaper to reason about than per-buffer barriers and, for compute
 // work on one queue, no slower on current drivers.
@@ -107,6 +110,34 @@ void CommandBatch::beforeCommand() {
 void CommandBatch::dispatch(std::string_view name, const ComputePipeline& pipeline,
                             std::span<const Buffer* const> buffers, const void* push,
                             std::size_t pushBytes, glm::uvec3 threads) {
+  recordPass(name, pipeline, buffers, push, pushBytes, [&](const std::string& who) {
+    const glm::uvec3 size = pipeline.desc().workgroupSize;
+    const glm::uvec3 count(groups(threads.x, size.x), groups(threads.y, size.y),
+                           groups(threads.z, size.z));
+    const std::uint32_t* limit = ctx_->properties().limits.maxComputeWorkGroupCount;
+    SDFSTREAM_GPU_CHECK(count.x <= limit[0] && count.y <= limit[1] && count.z <= limit[2],
+                        who +
+                            "group count exceeds maxComputeWorkGroupCount (65535 on many "
+                            "devices): spread the threads over y");
+    vkCmdDispatch(commandBuffer_, count.x, count.y, count.z);
+  });
+}
+
+void CommandBatch::dispatchIndirect(std::string_view name, const ComputePipeline& pipeline,
+                                    std::span<const Buffer* const> buffers, const void* push,
+                                    std::size_t pushBytes, const Buffer& args,
+                                    std::size_t offset) {
+  recordPass(name, pipeline, buffers, push, pushBytes, [&](const std::string& who) {
+    SDFSTREAM_GPU_CHECK(args && offset % 4 == 0 && offset + 12 <= args.size(),
+                        who + "indirect arguments outside their buffer");
+    vkCmdDispatchIndirect(commandBuffer_, args.handle(), offset);
+  });
+}
+
+void CommandBatch::recordPass(std::string_view name, const ComputePipeline& pipeline,
+                              std::span<const Buffer* const> buffers, const void* push,
+                              std::size_t pushBytes,
+                              const std::function<void(const std::string&)>& issue) {
   const PipelineDesc& desc = pipeline.desc();
   const std::string who = "dispatch '" + std::string(name) + "' (" + pipeline.name() + "): ";
   SDFSTREAM_GPU_CHECK(pipeline, who + "empty pipeline");
@@ -148,15 +179,7 @@ void CommandBatch::dispatch(std::string_view name, const ComputePipeline& pipeli
   if (pushBytes)
     vkCmdPushConstants(commandBuffer_, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                        static_cast<std::uint32_t>(pushBytes), push);
-  const glm::uvec3 size = desc.workgroupSize;
-  const glm::uvec3 count(groups(threads.x, size.x), groups(threads.y, size.y),
-                         groups(threads.z, size.z));
-  const std::uint32_t* limit = ctx_->properties().limits.maxComputeWorkGroupCount;
-  SDFSTREAM_GPU_CHECK(count.x <= limit[0] && count.y <= limit[1] && count.z <= limit[2],
-                      who +
-                          "group count exceeds maxComputeWorkGroupCount (65535 on many "
-                          "devices): spread the threads over y");
-  vkCmdDispatch(commandBuffer_, count.x, count.y, count.z);
+  issue(who);
 
   if (queryPool_)
     vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_,

@@ -21,6 +21,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <span>
 #include <string>
@@ -66,6 +67,14 @@ class CommandBatch {
              pushBytes, threads);
   }
 
+  // As dispatch(), with the group counts (three uints) read by the GPU from `args` at `offset`
+  // when the pass runs: an earlier pass of the batch can size this one (e.g. by a list length),
+  // so no thread is launched for work that does not exist. `args` must come from this library
+  // (every Buffer may serve as indirect arguments).
+  void dispatchIndirect(std::string_view name, const ComputePipeline& pipeline,
+                        std::span<const Buffer* const> buffers, const void* push,
+                        std::size_t pushBytes, const Buffer& args, std::size_t offset);
+
   // Copies `bytes` (multiple of 4 not required) from src+srcOffset to dst+dstOffset. Checked
   // (abort): both ranges inside their buffers; the two buffers differ.
   void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t srcOffset = 0,
@@ -90,6 +99,10 @@ class CommandBatch {
   friend class Context;
   CommandBatch(Context& ctx, std::uint32_t maxPasses);
   void beforeCommand();
+  // Binds, pushes, times and labels one pass; `issue` records the dispatch command itself.
+  void recordPass(std::string_view name, const ComputePipeline& pipeline,
+                  std::span<const Buffer* const> buffers, const void* push, std::size_t pushBytes,
+                  const std::function<void(const std::string&)>& issue);
   void release();
 
   Context* ctx_ = nullptr;

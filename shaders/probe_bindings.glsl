@@ -28,6 +28,8 @@ layout(std430, binding = 16) readonly buffer Cascades { CascadeTraceParams casca
 layout(std430, binding = 17) readonly buffer LightRadiance { uint lightRadiance[]; };
 layout(std430, binding = 18) readonly buffer Queries { ProbeQuery queries[]; };
 layout(std430, binding = 19) writeonly buffer Results { vec4 results[]; };
+layout(std430, binding = 20) buffer DispatchArgs { uint dispatchArgs[]; };
+layout(std430, binding = 21) buffer RayDirs { vec4 rayDirs[]; };
 
 layout(push_constant) uniform Push { ProbePushConstants pc; };
 

@@ -466,6 +466,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     inside = false;
     mean = vec3(0.0f);
   } else {
+    float hLast = vigilant > 0u ? min(v.blend.x, f.view.w) : v.blend.x;
     if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
       vigilant = f.selection.w;
       quiet = 0u;
@@ -476,7 +477,12 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       vec3 top = max(now, mean);
       float change = max(delta.x, max(delta.y, delta.z)) /
                      max(max(top.x, max(top.y, top.z)), 1e-4f);
-      quiet = change < f.trace.z ? quiet + 1u : 0u;
+      // The blend moved the stored mean by (1 - h) of the gap to the update's fresh estimate:
+      // judge the gap, not the step, or a high hysteresis would put unconverged probes to sleep.
+      float gap = change / max(1.0f - hLast, 1e-3f);
+      // Vigilant updates (low hysteresis) are noisy: only calm updates count towards sleep, so
+      // a probe never falls asleep holding the noise of its fast-converging phase.
+      quiet = gap < f.trace.z && hLast == v.blend.x ? quiet + 1u : 0u;
       if (vigilant > 0u) vigilant -= 1u;
       mean = now;
     }
@@ -580,6 +586,7 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
       PROBE_CACHE(entry) = h.cacheable ? probeCacheEncode(h.hit, h.t0, h.cascade, h.normal) : uvec2(0u);
   }
   PROBE_RAY(l * n + ray) = probeShadeRay(f, v, o, dir, h);
+  PROBE_RAY_DIR(l * n + ray) = vec4(dir, 0.0f);
 }
 
 // Blend pass body (interior texels): `local` < 36 irradiance texel, else depth texel.
@@ -587,7 +594,6 @@ void probeBlendPass(ProbeFrame f, uint l, uint local) {
   uint g = PROBE_LIST(l);
   ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
   uint n = v.countsRays.w;
-  mat3 rotation = probeVolumeRotation(v);
   bool vigilant = probeStateOf(PROBE_DATA(g)) == kProbeVigilant;
   bool adaptive = (f.options.x & kProbeOptionAdaptiveHysteresis) != 0u;
   const uint irrCount = kProbeIrradianceInterior * kProbeIrradianceInterior;
@@ -603,15 +609,14 @@ void probeBlendPass(ProbeFrame f, uint l, uint local) {
     uvec2 texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
     uint i = probeIrradianceIndex(g, texel + uvec2(kProbeBorderTexels));
     float h = vigilant ? min(v.blend.x, f.view.w) : v.blend.x;
-    PROBE_IRRADIANCE(i) = probeBlendIrradianceTexel(l * n, n, rotation, texel, PROBE_IRRADIANCE(i),
-                                                    h, v.blend.w, adaptive);
+    PROBE_IRRADIANCE(i) = probeBlendIrradianceTexel(l * n, n, texel, PROBE_IRRADIANCE(i), h,
+                                                    v.blend.w, adaptive);
   } else {
     uint d = local - irrCount;
     uvec2 texel = uvec2(d % kProbeDepthInterior, d / kProbeDepthInterior);
     uint i = probeDepthIndex(g, texel + uvec2(kProbeBorderTexels));
     float h = vigilant ? min(v.blend.y, f.view.w) : v.blend.y;
-    PROBE_DEPTH(i) = probeBlendDepthTexel(l * n, n, rotation, texel, PROBE_DEPTH(i), h,
-                                          v.visibility.y);
+    PROBE_DEPTH(i) = probeBlendDepthTexel(l * n, n, texel, PROBE_DEPTH(i), h, v.visibility.y);
   }
 }
 
@@ -629,6 +634,25 @@ void probeBorderPass(uint l, uint local) {
     uvec2 src = probeBorderSource(t, kProbeDepthTexels);
     if (src != t) PROBE_DEPTH(probeDepthIndex(g, t)) = PROBE_DEPTH(probeDepthIndex(g, src));
   }
+}
+
+// Group counts (x, y, 1) of a pass over `threads` invocations of 64, spread over rows of 16384
+// groups like probeInvocation(), written at PROBE_DISPATCH_ARGS(at .. at + 2).
+void probeWriteDispatch(uint at, uint threads) {
+  uint groups = (threads + 63u) / 64u;
+  uint rows = (groups + 16383u) / 16384u;
+  PROBE_DISPATCH_ARGS(at) = rows > 1u ? 16384u : groups;
+  PROBE_DISPATCH_ARGS(at + 1u) = max(rows, 1u);
+  PROBE_DISPATCH_ARGS(at + 2u) = 1u;
+}
+
+// Dispatch sizes of the list-driven passes from this frame's list length (one invocation):
+// trace (list x rays) at 0, blend (list x 232) at 3, borders (list x 320) at 6.
+void probeWriteListDispatches(ProbeFrame f, uint raysPerProbe) {
+  uint listed = min(PROBE_STAT(kProbeStatListCount), f.selection.y);
+  probeWriteDispatch(0u, listed * raysPerProbe);
+  probeWriteDispatch(3u, listed * kProbeBlendTexelsPerProbe);
+  probeWriteDispatch(6u, listed * kProbeTileTexelsPerProbe);
 }
 
 // Select pass body (mode kProbeSelectModeCount or kProbeSelectModeEmit), one invocation per probe.

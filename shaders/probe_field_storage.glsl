@@ -13,6 +13,7 @@
 #define PROBE_IRRADIANCE(i) irradiance[i]
 #define PROBE_DEPTH(i) depth[i]
 #define PROBE_RAY(i) rays[i]
+#define PROBE_RAY_DIR(i) rayDirs[i]
 #include "shaders/probe_update.glsl"
 #define PROBE_VOLUME(c) volumes[c]
 #define PROBE_DATA(g) probeData[g]
@@ -24,4 +25,5 @@
 #define PROBE_LIST(i) updateList[i]
 #define PROBE_STAT(i) stats[i]
 #define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)
+#define PROBE_DISPATCH_ARGS(i) dispatchArgs[i]
 #include "shaders/probe_field.glsl"

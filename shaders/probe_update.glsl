@@ -11,6 +11,7 @@
 //   PROBE_DEPTH(i)      -> vec2 stored depth texel i (sampling functions only)
 //   PROBE_RAY(i)        -> vec4 ray result i (blend functions only): rays of the probe at
 //                          position l of this frame's update list are l * raysPerProbe + ray
+//   PROBE_RAY_DIR(i)    -> vec4 direction (xyz) of ray result i
 //
 // Storage (storage buffers, no images):
 //   irradiance atlas: probe-major, 8x8 tile texels per probe (probe_layout.h), vec4 each:
@@ -65,18 +66,21 @@ vec3 probeSrgbToLinear(vec3 c) {
 
 #ifdef PROBE_RAY
 // New stored value of interior irradiance texel `texel` (0..5 per axis) of a probe whose rays
-// of this update are PROBE_RAY(rayBase + r), r < n, in directions rotation * fibonacci(r, n):
+// of this update are PROBE_RAY(rayBase + r), r < n, in directions PROBE_RAY_DIR(rayBase + r)
+// (written by the trace pass, so the blend does no trigonometry):
 // cosine-weighted mean (probeIrradianceFromSums), encoded with gamma, blended with the old stored
 // value in encoded space with hysteresis h (M21 Eq. 1, Sec. 4.2); h = 0 for a texel never
 // written; the per-texel change heuristic lowers h when asked (M21 Sec. 4.3). No weighted ray:
 // unchanged.
-vec4 probeBlendIrradianceTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel, vec4 oldStored,
-                               float h, float gamma, bool adaptive) {
+vec4 probeBlendIrradianceTexel(uint rayBase, uint n, uvec2 texel, vec4 oldStored, float h,
+                               float gamma, bool adaptive) {
   vec3 texelDir = probeTexelDirection(texel, kProbeIrradianceInterior);
   vec4 sums = vec4(0.0f);
   for (uint r = 0u; r < n; ++r) {
+    vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
+    if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the reads
     vec4 result = PROBE_RAY(rayBase + r);
-    float w = probeIrradianceWeight(texelDir, probeRayDirection(r, n, rotation));
+    float w = probeIrradianceWeight(texelDir, rayDir);
     sums += vec4(vec3(result) * w, w);
   }
   if (sums.w <= 0.0f) return oldStored;
@@ -90,13 +94,15 @@ vec4 probeBlendIrradianceTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel,
 // New stored (mean, mean²) of interior depth texel `texel` (0..13 per axis): power-cosine
 // weighted moments of the ray depths, blended with hysteresis h; a texel never written (0, 0)
 // takes the fresh moments (every written texel has a positive mean: depths are > 0).
-vec2 probeBlendDepthTexel(uint rayBase, uint n, mat3 rotation, uvec2 texel, vec2 oldStored,
-                          float h, float sharpness) {
+vec2 probeBlendDepthTexel(uint rayBase, uint n, uvec2 texel, vec2 oldStored, float h,
+                          float sharpness) {
   vec3 texelDir = probeTexelDirection(texel, kProbeDepthInterior);
   vec3 sums = vec3(0.0f);  // w d, w d², w
   for (uint r = 0u; r < n; ++r) {
+    vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
+    if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the pow
     float d = abs(PROBE_RAY(rayBase + r).w);  // backface depths are stored negated
-    float w = probeDepthWeight(texelDir, probeRayDirection(r, n, rotation), sharpness);
+    float w = probeDepthWeight(texelDir, rayDir, sharpness);
     sums += vec3(w * d, w * d * d, w);
   }
   if (sums.z <= 0.0f) return oldStored;

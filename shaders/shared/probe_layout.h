@@ -105,6 +105,7 @@ SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays in
 SDF_CONST uint kProbeBlendModeBorder = 1u;    // probe_blend.comp: copy border texels
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
 SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probes below the cutoff
+SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
 SDF_CONST uint kProbeBlendTexelsPerProbe = 232u;  // 6² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 320u;   // 8² irradiance + 16² depth tile texels
 
