@@ -62,8 +62,12 @@ struct LightShadowMarch {
 // this cascade's voxels gives the same value as cascade-0 voxels. Only resident samples inside
 // the narrow band feed the estimate: clamped samples (kNarrowBand) and empty-page bounds are
 // lower bounds of the distance and would darken rays that pass far from any occluder.
+// escapeSelf (coarser cascades only): the ray may begin inside this cascade's coarser, thicker
+// copy of the very surface it leaves (a surface near a finer window's edge); samples below
+// epsilon within the first two voxels are stepped through until the ray is outside, instead of
+// counting as a hit (which drew black lines along every cascade boundary).
 LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMax, uint maxSteps,
-                                    float hitEpsilon, float k, uvec4 toroidal) {
+                                    float hitEpsilon, float k, uvec4 toroidal, bool escapeSelf) {
   LightShadowMarch r;
   r.visibility = 1.0f;
   r.t = tMin;
@@ -75,12 +79,18 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
   vec2 span = sdfBoxClip(origin, invDir, vec3(0.0f), vec3(128.0f));
   float t = max(tMin, span.x);
   float tEnd = min(tMax, span.y) - 1e-4f;  // stay inside the last page (as sdfTrace)
+  float escapeEnd = escapeSelf ? t + 2.0f : t;
   for (uint i = 0u; i < maxSteps; ++i) {
     r.t = t;
     if (t > tEnd) return r;
     r.steps = i + 1u;
     SDF_PRECISE vec3 p = origin + dir * t;
     SdfSample s = sdfSampleCascade(p, toroidal);
+    if (s.resident && s.distance < hitEpsilon && t < escapeEnd) {
+      t += max(abs(s.distance), 0.25f);  // still inside the surface being left
+      continue;
+    }
+    escapeEnd = t;  // outside: from here on every surface counts
     if (s.resident) {
       if (s.distance < hitEpsilon) {
         r.hit = true;
@@ -112,22 +122,27 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
 // (k = GpuLight.shape.z; k == 0: hard shadows, 0 or 1 only). A ray that runs out of steps counts
 // as blocked: a shadow leaking light through a wall is worse than one slightly too dark, and such
 // rays crawl along surfaces, where n·L is small anyway.
-float sdfSoftShadowStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
-                         float hitEpsilon, uint cascadeCount, float k) {
-  SDF_PRECISE vec3 start = origin0 + dir * tMin0;
+// As sdfSoftShadowStack, starting in cascade `firstCascade` (a primary hit's own cascade).
+float sdfSoftShadowStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                             float hitEpsilon, uint firstCascade, uint cascadeCount, float k) {
   float visibility = 1.0f;
   float t0 = tMin0;
   uint steps = 0u;
-  for (uint c = lightFinestCascade(start, cascadeCount); c < cascadeCount; ++c) {
+  bool fellBack = false;  // the previous cascade stopped at a missing page, not at its edge
+  for (uint c = firstCascade; c < cascadeCount; ++c) {
     CascadeTraceParams cp = SDF_CASCADE(c);
     float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
     SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale)) / scale;
     uint budget = maxSteps > steps ? maxSteps - steps : 0u;
-    LightShadowMarch r =
-        lightShadowCascade(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon, k, cp.toroidal);
+    // Only a window left within two coarse voxels of the start can put the ray inside the
+    // coarser copy of its own surface; farther on, whatever the coarse cascade holds counts.
+    bool escape = c > firstCascade && !fellBack && t0 - tMin0 < 2.0f * scale;
+    LightShadowMarch r = lightShadowCascade(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon,
+                                            k, cp.toroidal, escape);
     steps += r.steps;
     visibility = min(visibility, r.visibility);
     if (r.hit || r.ranOutOfSteps) return 0.0f;
+    fellBack = r.missing;
     if (r.missing) {
       t0 = r.t * scale;  // same point, one cascade coarser ("never wait")
     } else {
@@ -139,6 +154,13 @@ float sdfSoftShadowStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint 
     }
   }
   return clamp(visibility, 0.0f, 1.0f);
+}
+
+float sdfSoftShadowStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                         float hitEpsilon, uint cascadeCount, float k) {
+  SDF_PRECISE vec3 start = origin0 + dir * tMin0;
+  return sdfSoftShadowStackFrom(origin0, dir, tMin0, tMax0, maxSteps, hitEpsilon,
+                                lightFinestCascade(start, cascadeCount), cascadeCount, k);
 }
 
 // 0 below edge0, 1 above edge1, smooth in between; unlike GLSL's smoothstep it is defined when

@@ -25,37 +25,13 @@
 //  - the walk starts in the hit's own cascade (not the finest window holding the point), half a
 //    voxel of that cascade off the surface, and further out when the hit point lies inside that
 //    cascade's surface (a ray that entered a coarser cascade below its inflated surface);
-//  - in every coarser cascade the march begins at least kShadeCoarseSkip of its voxels from the
-//    origin (occluders closer than that are below that cascade's resolution).
-SDF_CONST float kShadeCoarseSkip = 2.0f;
+//  - in a coarser cascade entered within two of its voxels of the start, the march first steps
+//    out of that cascade's copy of the surface being left (sdfSoftShadowStackFrom).
 
 float shadeSoftShadowStack(vec3 origin0, vec3 dir, float tMax0, uint maxSteps, float hitEpsilon,
                            uint firstCascade, uint cascadeCount, float k) {
-  float visibility = 1.0f;
-  float t0 = 0.0f;
-  uint steps = 0u;
-  for (uint c = firstCascade; c < cascadeCount; ++c) {
-    CascadeTraceParams cp = SDF_CASCADE(c);
-    float scale = cp.offsetScale.w;
-    SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale)) / scale;
-    float start = c > firstCascade ? max(t0, kShadeCoarseSkip * scale) : t0;
-    if (start >= tMax0) break;
-    uint budget = maxSteps > steps ? maxSteps - steps : 0u;
-    LightShadowMarch r = lightShadowCascade(o, dir, start / scale, tMax0 / scale, budget,
-                                            hitEpsilon, k, cp.toroidal);
-    steps += r.steps;
-    visibility = min(visibility, r.visibility);
-    if (r.hit || r.ranOutOfSteps) return 0.0f;
-    if (r.missing) {
-      t0 = r.t * scale;
-    } else {
-      vec2 span = sdfBoxClip(o, sdfSafeInverse(dir), vec3(0.0f), vec3(128.0f));
-      float exitT0 = span.y * scale;
-      if (exitT0 >= tMax0) break;
-      t0 = max(t0, exitT0);
-    }
-  }
-  return clamp(visibility, 0.0f, 1.0f);
+  return sdfSoftShadowStackFrom(origin0, dir, 0.0f, tMax0, maxSteps, hitEpsilon, firstCascade,
+                                cascadeCount, k);
 }
 
 // lightIrradiance (light_math.glsl: cosine, 1/d², range window, spot cone) at hit point p0 of

@@ -9,6 +9,7 @@
 
 #include "gi/light_cache.h"
 #include "tests/lights/light_scenes.h"
+#include "tests/support/analytic_stack.h"
 
 namespace sdfstream {
 namespace {
@@ -215,6 +216,32 @@ TEST(LightShadow, OneVoxelWallsKeepDirectLightOutsideHalfIntegerFaces) {
 // Faces on integers: the wall's two samples are both 0; the wall's cells have no normal.
 TEST(LightShadow, OneVoxelWallsKeepDirectLightOutsideIntegerFaces) {
   expectNoLeak(ThinRoom{41.0f, 81.0f});
+}
+
+// A floor lit by a low sun towards +x: cascade 0's floor cells next to its window's far edge send
+// their shadow rays into cascade 1 within a voxel or two, where the min-filtered coarse floor is
+// thicker (emulated: lifted by 0.75 of the extra voxel size) and the ray starts inside it. Those
+// cells must be lit like the ones in the middle, not drawn as a dark line along the boundary.
+TEST(LightShadow, SurfacesAtACascadeEdgeAreNotShadowedByTheirCoarserCopy) {
+  auto floor = [](glm::vec3 p, float scale) { return p.y - 64.0f - 0.75f * (scale - 1.0f); };
+  test::AnalyticStack scene(2, floor, [](glm::vec3) { return glm::uvec2(kAlbedo, 0u); });
+  std::vector<std::uint32_t> pages;
+  for (std::uint32_t i = 0; i < scene.image.pageTables.size(); ++i)
+    if (scene.image.pageTables[i] & gpu_shared::kPageResidentBit) pages.push_back(i);
+  const std::vector<gpu_shared::GpuLight> lights{test::sunLight({1.0f, 0.35f, 0.0f}, 2.0f, 16.0f)};
+  LightCacheCpu cache;
+  cache.update(scene.image, lights, {}, pages, 1.0);
+  auto radianceAt = [&](glm::ivec3 v) {  // cascade 0, cell [v, v+1)
+    const std::uint32_t entry = scene.image.pageTables[v.x / 8 + 16 * (v.y / 8 + 16 * (v.z / 8))];
+    EXPECT_TRUE(entry & gpu_shared::kPageResidentBit);
+    const glm::ivec3 l = v % 8;
+    return test::decode(cache.radiance()[(entry & gpu_shared::kPagePayloadMask) * 512u +
+                                         std::uint32_t(l.x + 8 * (l.y + 8 * l.z))]);
+  };
+  const float middle = radianceAt({64, 63, 64}).x;
+  EXPECT_GT(middle, 0.0f);
+  for (int x : {120, 124, 126, 127})
+    EXPECT_NEAR(radianceAt({x, 63, 64}).x, middle, 0.02f * middle) << "x=" << x;
 }
 
 }  // namespace
