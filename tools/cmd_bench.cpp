@@ -4,6 +4,7 @@
 //   bench world:  a layout (e.g. from generate-world) through loadLayoutSources + importPack,
 //                 one timed run with a progress bar; reports tiles, bricks, bytes.
 // Results go to -o (default out/bench/<name>): results.csv and summary.md.
+// bench scroll, stream and gi live in tools/bench_scroll.cpp, bench_stream.cpp and bench_gi.cpp.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -229,6 +230,7 @@ int runBench(int argc, char** argv) {
   // bench scroll and bench stream have their own options (tools/bench_scroll.cpp, bench_stream.cpp).
   if (argc > 2 && std::string(argv[2]) == "scroll") return runBenchScroll(argc, argv);
   if (argc > 2 && std::string(argv[2]) == "stream") return runBenchStream(argc, argv);
+  if (argc > 2 && std::string(argv[2]) == "gi") return runBenchGi(argc, argv);
   Args args(argc, argv, 2,
             {"-o", "--mesh", "--voxel", "--runs", "--lods", "--tile-voxels", "--max-memory-gib"},
             {"--help", "-h"});
@@ -241,6 +243,7 @@ int runBench(int argc, char** argv) {
         "       sdfstream bench scroll WORLD [--moves N] [-o out/bench/scroll]\n"
         "       sdfstream bench stream WORLD [--frames 600] [--long-frames 10000] "
         "[-o out/bench/stream]\n"
+        "       sdfstream bench gi [--quick] [--scenes a,b] [--out out/bench-gi] [--gpu-table]\n"
         "\n"
         "import: LOD-0 import of a mesh (default: glmark2's bunny; voxel default: largest extent\n"
         "        / 256, vdb_tool's default) through sdfstream's tiled importer vs\n"
@@ -251,12 +254,16 @@ int runBench(int argc, char** argv) {
         "scroll: a one-brick camera move vs a full rebuild of every cascade (see its --help).\n"
         "stream: fly-throughs at 50 and 200 m/s (residency, latency, read throughput) vs a plain\n"
         "        sequential read of the tile files, and a long run sampling memory (see its --help).\n"
-        "All write results.csv and summary.md into the -o directory.");
+        "gi:     run time vs error of the probe GI against a path-traced reference over a sweep of\n"
+        "        the probe settings, plain DDGI as the baseline, Pareto fronts, and the probe-ray\n"
+        "        traversal vs Embree/OpenVDB/NanoVDB on one frame's rays (see its --help).\n"
+        "All write results.csv and summary.md into the -o directory (gi: --out, default\n"
+        "out/bench-gi, plus PNG plots).");
     return what.empty() && !args.has("--help") && !args.has("-h") ? 2 : 0;
   }
   if (what == "import") return benchImport(args);
   if (what == "world") return benchWorld(args);
-  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world, scroll, stream)");
+  throw InputError(Kind::Usage, "command line", "unknown benchmark '" + what + "' (import, world, scroll, stream, gi)");
 }
 
 }  // namespace sdfstream::cli
