@@ -1,9 +1,21 @@
 #include "gi/gi_system.h"
 
+#include <algorithm>
+#include <iterator>
+
 namespace sdfstream {
 
 GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint32_t cascades)
-    : scene_(context), light_(context, settings.light), probes_(context, settings.probes, cascades) {}
+    : scene_(context),
+      light_(context, settings.light),
+      probes_(context, settings.probes, cascades),
+      objects_(context, settings.objects) {}
+
+void GiSystem::setObjects(const ObjectLibrary* library, InstanceSet* instances) {
+  objectLibrary_ = library;
+  instances_ = library ? instances : nullptr;
+  probes_.setObjects(instances_ ? &objects_ : nullptr);
+}
 
 GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
                               const SceneLights& lights, probe::ProbeFrameInputs inputs,
@@ -25,15 +37,29 @@ GiFrameStats GiSystem::run(const CascadeStackImage& image, const SceneLights& li
   const bool lightsChanged = lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();
-  const std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
+  std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
   const auto gpuLights = toGpu(lights.lights, image);
   const gpu_shared::GpuSky sky = toGpu(lights.sky);
-  light_.update(scene_, gpuLights, sky, dirty, image.voxelSize0);
+  GiFrameStats stats;
+  if (instances_) {
+    objects_.update(*objectLibrary_, *instances_, image);
+    for (const auto& t : objects_.lastTimings()) stats.objectMilliseconds += t.milliseconds;
+    stats.objectInstances = std::uint32_t(instances_->size());
+    // Relight only where objects moved: the pages their old and new poses shadow.
+    const std::vector<WorldBox> changed = instances_->changedBoxes(*objectLibrary_);
+    const std::vector<std::uint32_t> shadowed = objectShadowPages(image, changed, gpuLights);
+    stats.objectPagesRelit = std::uint32_t(shadowed.size());
+    std::vector<std::uint32_t> merged;
+    std::set_union(dirty.begin(), dirty.end(), shadowed.begin(), shadowed.end(),
+                   std::back_inserter(merged));
+    dirty = std::move(merged);
+    instances_->endFrame();
+  }
+  light_.update(scene_, gpuLights, sky, dirty, image.voxelSize0, instances_ ? &objects_ : nullptr);
   inputs.sky = sky;
   inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
   probes_.update(scene_, image, light_.radianceBuffer(), inputs, frame);
 
-  GiFrameStats stats;
   stats.pagesRelit = light_.pagesRelitLastUpdate();
   for (const auto& t : light_.lastTimings()) stats.lightMilliseconds += t.milliseconds;
   stats.probeMilliseconds = probes_.lastMilliseconds();

@@ -12,6 +12,7 @@
 
 #include "gi/gpu_stack_scene.h"
 #include "gi/light_cache.h"
+#include "gi/object_scene.h"
 #include "gi/probe_field.h"
 #include "gi/scene_lights.h"
 #include "gpu/context.h"
@@ -22,12 +23,16 @@ namespace sdfstream {
 struct GiSettings {
   probe::ProbeFieldSettings probes;
   LightCacheSettings light;
+  ObjectSceneSettings objects;
 };
 
 struct GiFrameStats {
   std::uint32_t pagesRelit = 0;
   double lightMilliseconds = 0.0;  // GPU time of the light cache pass (0 when skipped)
   double probeMilliseconds = 0.0;  // GPU time of all probe passes
+  double objectMilliseconds = 0.0; // GPU time of the macro-region passes (0 without objects)
+  std::uint32_t objectInstances = 0;
+  std::uint32_t objectPagesRelit = 0;  // light-cache pages relit because objects moved
   probe::ProbeFieldStats probes;
 };
 
@@ -43,6 +48,13 @@ class GiSystem {
   // The same for a stack image that is uploaded whole (hand-built or static scenes).
   GiFrameStats update(const CascadeStackImage& image, const SceneLights& lights,
                       probe::ProbeFrameInputs inputs, std::uint64_t frame);
+
+  // Moving objects (issue 7), or none (nullptr, the default). Each update then uploads the
+  // instances, rebuilds the macro-region lists, relights the pages their moves shadow or
+  // unshadow, traces them in the probe update, and consumes the set's change record
+  // (instances->endFrame()). Both must outlive their use here.
+  void setObjects(const ObjectLibrary* library, InstanceSet* instances);
+  const ObjectScene& objects() const { return objects_; }
 
   // irradiance(x, n, view) of the current probes (cascade-0 voxels of the last frame's stack).
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
@@ -61,6 +73,9 @@ class GiSystem {
   GpuStackScene scene_;
   LightCache light_;
   probe::ProbeField probes_;
+  ObjectScene objects_;
+  const ObjectLibrary* objectLibrary_ = nullptr;
+  InstanceSet* instances_ = nullptr;
   std::unique_ptr<CascadeStackImage> previous_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   std::size_t lightCount_ = 0;

@@ -7,7 +7,7 @@
 namespace sdfstream {
 namespace {
 constexpr glm::uvec3 kGroup(64, 1, 1);
-constexpr std::uint32_t kBindings = 8;
+constexpr std::uint32_t kBindings = 14;  // 8 + 6 object bindings (light_cache.comp)
 }  // namespace
 
 LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
@@ -18,7 +18,8 @@ LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
       radiance_(context, 4, gpu::BufferKind::DeviceLocal),
       pageList_(context, 4096 * sizeof(std::uint32_t), gpu::BufferKind::Upload),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
-              gpu::BufferKind::Upload) {
+              gpu::BufferKind::Upload),
+      noObjects_(context) {
   const std::uint32_t zero = 0;
   radiance_.upload(&zero, sizeof zero);
 }
@@ -38,7 +39,7 @@ void LightCache::grow(std::size_t materialVoxels) {
 
 void LightCache::update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
                         const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
-                        double voxelSize0) {
+                        double voxelSize0, const ObjectScene* objects) {
   assert(lights.size() <= gpu_shared::kMaxLights);
   assert(dirtyPages.size() <= 65535 &&
          "one page per workgroup row; lightDirtyPages gives <= 32768");
@@ -60,10 +61,12 @@ void LightCache::update(const GpuStackScene& scene, std::span<const gpu_shared::
                               std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
   gpu::CommandBatch batch = context_.beginBatch(1);
   // x: the 512 cells of a page (8 groups), y: the listed pages (at most 8 × 4096 < 65535).
-  batch.dispatch("light_cache", pipeline_,
-                 {&pageList_, &lights_, &radiance_, &scene.pageTables(), &scene.distance(),
-                  &scene.albedo(), &scene.emission(), &scene.params()},
-                 &pc, sizeof pc,
+  std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
+                                          &scene.pageTables(), &scene.distance(), &scene.albedo(),
+                                          &scene.emission(),   &scene.params()};
+  for (const gpu::Buffer* o : objects && objects->active() ? objects->buffers() : noObjects_.buffers())
+    bufs.push_back(o);
+  batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
                  glm::uvec3(gpu_shared::kBrickMaterialCount, std::uint32_t(dirtyPages.size()), 1));
   batch.submitAndWait();
   timings_ = batch.timings();

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gi/gpu_stack_scene.h"
+#include "gi/object_scene.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
@@ -41,6 +42,15 @@ struct LightCacheSettings {
 // GpuLight form, which moves with cascade 0 although the light does not.
 std::vector<std::uint32_t> lightDirtyPages(const CascadeStackImage* previous,
                                            const CascadeStackImage& current, bool lightsChanged);
+
+// Resident pages of `stack` whose light a moving object may have changed (issue 7 item 6: the
+// light cache is re-lit only where objects moved): for each changed world box (old and new poses,
+// InstanceSet::changedBoxes), the box swept away from each shadow-casting light -- along the
+// sun's direction, or away from a point/spot light -- until it leaves the stack, as one AABB per
+// (box, light); every resident page it overlaps. Sorted, distinct; merge with lightDirtyPages.
+std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
+                                             std::span<const WorldBox> changed,
+                                             std::span<const gpu_shared::GpuLight> lights);
 
 // Builds the push constants both implementations use. Asserts lights.size() <= kMaxLights.
 gpu_shared::LightCachePushConstants lightCachePushConstants(
@@ -84,9 +94,11 @@ class LightCache {
   // lights refer to); blocking. Grows the light atlas to scene.slotCount() first (old values
   // kept, new slots zero). Skips the dispatch entirely when dirtyPages is empty. Same units and
   // limits as LightCacheCpu::update; at most 65535 pages (asserted; a stack has <= 32768).
+  // `objects` (optional, updated for the same stack): moving objects block the shadow rays (hard
+  // shadows; the GPU pass only -- the CPU reference has no objects).
   void update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
               const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
-              double voxelSize0);
+              double voxelSize0, const ObjectScene* objects = nullptr);
 
   // Device-local light atlas: one RGB9E5 uint per material voxel, zero-filled on creation/growth.
   const gpu::Buffer& radianceBuffer() const { return radiance_; }
@@ -108,6 +120,7 @@ class LightCache {
   gpu::Buffer radiance_;  // device-local light atlas
   gpu::Buffer pageList_;  // upload, grown on demand
   gpu::Buffer lights_;    // upload, kMaxLights GpuLight
+  NoObjectsBindings noObjects_;
   std::size_t materialVoxels_ = 0;
   std::vector<gpu::PassTiming> timings_;
   std::uint32_t pagesRelit_ = 0;

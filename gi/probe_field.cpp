@@ -5,7 +5,7 @@
 namespace sdfstream::probe {
 namespace {
 using gpu_shared::ProbePushConstants;
-constexpr std::uint32_t kBindings = 22;
+constexpr std::uint32_t kBindings = 28;  // 22 probe + 6 object (probe_bindings.glsl)
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
@@ -58,7 +58,8 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       queries_(context, sizeof(gpu_shared::ProbeQuery), gpu::BufferKind::Upload),
       results_(context, 16, gpu::BufferKind::Readback),
       dispatchArgs_(deviceBuffer(context, 9 * 4)),
-      rayDirs_(deviceBuffer(context, sizes_.rays * 16)) {
+      rayDirs_(deviceBuffer(context, sizes_.rays * 16)),
+      noObjects_(context) {
   reset();
 }
 
@@ -72,17 +73,25 @@ void ProbeField::reset() {
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                                      const gpu::Buffer& light) {
-  return {&frame_,      &volumes_,          &data_,         &history_,          &irradiance_,
-          &depth_,      &rays_,             &cache_,        &rotations_,        &list_,
-          &statsBuffer_, &pageChanged_,      &scene.pageTables(), &scene.distance(), &scene.albedo(),
-          &scene.emission(), &scene.params(), &light,        &queries_,          &results_,
-          &dispatchArgs_, &rayDirs_};
+  std::vector<const gpu::Buffer*> b = {
+      &frame_,          &volumes_,         &data_,         &history_,          &irradiance_,
+      &depth_,          &rays_,            &cache_,        &rotations_,        &list_,
+      &statsBuffer_,    &pageChanged_,     &scene.pageTables(), &scene.distance(), &scene.albedo(),
+      &scene.emission(), &scene.params(),  &light,         &queries_,          &results_,
+      &dispatchArgs_,   &rayDirs_};
+  for (const gpu::Buffer* o : objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
+    b.push_back(o);
+  return b;
 }
 
 void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& image,
                         const gpu::Buffer& light, const ProbeFrameInputs& inputs,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
+  if (objects_ && objects_->active()) {
+    lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
+                                      (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
+  }
   // The previous update was waited for: the host-visible inputs are free to rewrite.
   std::memcpy(frame_.mapped(), &lastFrame_.constants, sizeof lastFrame_.constants);
   writeMapped(volumes_, lastFrame_.volumes);

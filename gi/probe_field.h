@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gi/gpu_stack_scene.h"
+#include "gi/object_scene.h"
 #include "gi/probe_field_cpu.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
@@ -32,6 +33,9 @@ class ProbeField {
               const gpu::Buffer& lightRadiance, const ProbeFrameInputs& inputs,
               std::uint64_t frame);
   void reset();
+  // Moving objects the next updates trace and classify against (issue 7), or none (nullptr):
+  // the object scene must be updated for the same stack before each update() and outlive it.
+  void setObjects(const ObjectScene* objects) { objects_ = objects; }
 
   // irradiance(x, n, view) of the current probes at each query; blocking.
   std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
@@ -66,6 +70,8 @@ class ProbeField {
   gpu::Buffer queries_, results_;
   gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
+  const ObjectScene* objects_ = nullptr;
+  NoObjectsBindings noObjects_;  // bound at 22-27 when there are no objects
   ProbeFieldStats stats_;
   std::vector<gpu::PassTiming> timings_;
 };

@@ -104,6 +104,9 @@ ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw) {
   s.steps = raw[kProbeStatSteps];
   for (int i = 0; i < 4; ++i) s.states[i] = raw[kProbeStatStates + i];
   s.cacheInvalidated = raw[kProbeStatCacheInvalidated];
+  s.objectRays = raw[kProbeStatObjectRays];
+  s.objectHits = raw[kProbeStatObjectHits];
+  s.objectSteps = raw[kProbeStatObjectSteps];
   return s;
 }
 

@@ -36,6 +36,9 @@ struct ProbeFieldStats {
   std::uint64_t steps = 0;
   std::uint32_t states[4] = {};  // off, sleeping, awake, vigilant
   std::uint32_t cacheInvalidated = 0;
+  std::uint32_t objectRays = 0;   // rays that searched the moving objects (GPU only)
+  std::uint32_t objectHits = 0;   // ... and hit one before the static scene
+  std::uint32_t objectSteps = 0;  // object sphere-tracing steps
 };
 ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw);
 

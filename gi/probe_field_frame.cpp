@@ -33,14 +33,15 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
 
   // Hit-cache rotations: a fixed cycle, so a ray index of a rotation slot always has the same
   // direction and its cached hit stays meaningful; without the cache, a fresh rotation per frame.
-  const std::uint32_t slots = s.hitCache ? std::max(1u, s.cacheRotations) : 1u;
+  const bool cycle = s.hitCache || s.fixedRotationCycle;
+  const std::uint32_t slots = cycle ? std::max(1u, s.cacheRotations) : 1u;
   const std::uint64_t mix = s.rotationSeed * 0x9E3779B97F4A7C15ull;
   for (std::uint32_t r = 0; r < slots; ++r) {
     const glm::mat3 m = randomRotation(mix + r);
     for (int k = 0; k < 3; ++k) out.rotations.push_back(glm::vec4(m[k], 0.0f));
   }
-  const std::uint32_t slot = s.hitCache ? std::uint32_t(frame % slots) : 0u;
-  const glm::mat3 rotation = s.hitCache ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
+  const std::uint32_t slot = cycle ? std::uint32_t(frame % slots) : 0u;
+  const glm::mat3 rotation = cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
 
   std::vector<glm::ivec3> gridOrigins(cascades);
   std::vector<glm::dvec3> windowWorld(cascades);

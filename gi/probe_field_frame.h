@@ -39,6 +39,10 @@ struct ProbeFieldSettings {
   float traceDistance = 1e30f;      // probe ray tMax, cascade-0 voxels
   std::uint64_t rotationSeed = 1;
   bool hitCache = true;             // GS "Caching rays"
+  // Cycle the cache's rotation slots even with the cache off, so a test can compare cache on
+  // and off on the very same rays (off by default: without a cache, a fresh rotation per frame
+  // is the better estimator).
+  bool fixedRotationCycle = false;
   std::uint32_t cacheRotations = 4; // ray rotations cycled when the cache is on (memory: probes
                                     // x rays x rotations x 8 bytes)
   bool states = true;               // M21 Sec. 5 probe states

@@ -7,7 +7,7 @@
 // hits": a static light texture computed once and updated in dirty regions).
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
 // 2 light atlas (written), 3 page tables, 4 distance atlas, 5 albedo atlas, 6 emission atlas,
-// 7 cascade params (as trace_stack.comp).
+// 7 cascade params (as trace_stack.comp), 8-13 moving objects (object_bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -33,7 +33,11 @@ layout(push_constant) uniform Push { LightCachePushConstants pc; };
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #define LIGHT_AT(i) lights[i]
+// Moving objects block shadow rays (bindings 8-13, gi/object_scene.h; zero instances when none).
+#define OBJ_BINDING_BASE 8
+#include "shaders/object_bindings.glsl"
 #include "shaders/sdf_trace.glsl"
+#include "shaders/object_trace.glsl"
 #include "shaders/light_math.glsl"
 
 void main() {

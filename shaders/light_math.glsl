@@ -220,6 +220,12 @@ vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxStep
     }
     scalar *=
         sdfSoftShadowStack(origin, dir, 0.0f, tMax0, maxSteps, hitEpsilon, cascadeCount, l.shape.z);
+#ifdef OBJ_FRAME
+    // Moving objects cast hard shadows (issue 7 item 6); the includer binds them.
+    if (scalar > 0.0f && OBJ_FRAME.counts.x > 0u &&
+        objTraceRegions(origin, dir, 0.0f, tMax0, 0u).t >= 0.0f)
+      scalar = 0.0f;
+#endif
   }
   return vec3(l.colorIntensity) * scalar;
 }

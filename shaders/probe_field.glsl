@@ -417,6 +417,33 @@ vec4 probeShadeRay(ProbeFrame f, ProbeVolume v, vec3 o, vec3 dir, ProbeRayHit h)
   return vec4(direct + albedo * indirect * (f.skyZenith.w * 0.3183098861837907f), depth);
 }
 
+#ifdef OBJ_FRAME
+// Whether rays of cascade-c probes may meet an object: objects are bound and some region
+// cascade >= c lists one (bits of options.x from kProbeObjectMaskShift). Otherwise the trace is
+// exactly the static-only path (issue 7 item 5).
+bool probeObjectsReach(ProbeFrame f, uint c) {
+  if ((f.options.x & kProbeOptionObjects) == 0u) return false;
+  uint mask = (f.options.x >> kProbeObjectMaskShift) & 15u;
+  return (mask >> min(c, 31u)) != 0u;
+}
+
+// A probe ray that hit a moving object first. Until cards exist (issue 7 item 6) the object is
+// shaded from its material and the probes: emission + albedo/π · E(hit, n) of the previous
+// update (bounce gain applied), with no direct light of its own (docs/DECISIONS.md). Backfaces
+// (a probe inside or touching an object) count as in probeShadeRay.
+vec4 probeShadeObjectHit(ProbeFrame f, ProbeVolume v, vec3 o, vec3 dir, ObjectHit oh) {
+  float maxDepth = v.blend.z;
+  bool backface = dot(oh.normal, dir) > 0.0f;
+  float depth = probeRayDepth(oh.t, true, backface, maxDepth, v.visibility.z);
+  if (backface) return vec4(0.0f, 0.0f, 0.0f, -depth);
+  vec3 albedo = probeSrgbToLinear(vec3(unpackAlbedo(oh.albedo)));
+  vec3 emission = unpackRgb9e5(oh.emission);
+  vec3 hitPos = o + dir * oh.t;
+  vec3 indirect = probeFieldIrradiance(f, hitPos, oh.normal, -dir, false, -1);
+  return vec4(emission + albedo * indirect * (f.skyZenith.w * 0.3183098861837907f), depth);
+}
+#endif
+
 // ---- Pass bodies (one call per GPU invocation; the CPU reference loops over the same) --------
 // Extra macros for these (the includer defines them as lvalues / atomics):
 //   PROBE_HISTORY(g)        -> uvec4 history of global probe g (probeHistoryPack)
@@ -500,8 +527,23 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     uint page = sdfPageIndex(sdfPageOf(local), cp.toroidal) - cp.toroidal.w;
     if (PROBE_PAGE_CHANGED(c, page)) inside = false;
   }
+#ifdef OBJ_FRAME
+  // Moving objects: probes near one that moved this frame turn vigilant (low hysteresis for a
+  // few frames, M21 Sec. 5); a probe inside an object is off (sampling skips it) rather than
+  // blended towards the black of its backface hits, and keeps its irradiance for when the
+  // object has passed.
+  bool insideObject = false;
+  if ((f.options.x & kProbeOptionObjects) != 0u && !entered && objMovedNear(grid + offset, c)) {
+    vigilant = f.selection.w;
+    quiet = 0u;
+  }
+  if (probeObjectsReach(f, c)) insideObject = objInsideAny(grid + offset, c);
+#endif
   uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, inside);
   uint state = probeState(f, sdf, spacing, newHist);
+#ifdef OBJ_FRAME
+  if (insideObject) state = kProbeOff;
+#endif
   PROBE_STAT_ADD(kProbeStatStates + state, 1u);
 
   if ((f.options.x & kProbeOptionHitCache) != 0u) {
@@ -585,7 +627,28 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
     if (useCache)
       PROBE_CACHE(entry) = h.cacheable ? probeCacheEncode(h.hit, h.t0, h.cascade, h.normal) : uvec2(0u);
   }
-  PROBE_RAY(l * n + ray) = probeShadeRay(f, v, o, dir, h);
+  vec4 shaded;
+#ifdef OBJ_FRAME
+  // Moving objects (issue 7 item 4; GS slides b, "Combining with Static Lighting"): the dynamic
+  // DDA+SDF search runs only up to the static hit, cached or fresh, so static work is never
+  // repeated and the hit cache keeps holding static answers only.
+  if (probeObjectsReach(f, c)) {
+    ObjectHit oh = objTraceRegions(o, dir, 0.0f, h.hit ? h.t0 : f.trace.w, c);
+    PROBE_STAT_ADD(kProbeStatObjectRays, 1u);
+    PROBE_STAT_ADD(kProbeStatObjectSteps, oh.steps);
+    if (oh.t >= 0.0f) {
+      PROBE_STAT_ADD(kProbeStatObjectHits, 1u);
+      shaded = probeShadeObjectHit(f, v, o, dir, oh);
+    } else {
+      shaded = probeShadeRay(f, v, o, dir, h);
+    }
+  } else {
+    shaded = probeShadeRay(f, v, o, dir, h);
+  }
+#else
+  shaded = probeShadeRay(f, v, o, dir, h);
+#endif
+  PROBE_RAY(l * n + ray) = shaded;
   PROBE_RAY_DIR(l * n + ray) = vec4(dir, 0.0f);
 }
 

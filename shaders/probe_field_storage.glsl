@@ -8,6 +8,9 @@
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #include "shaders/sdf_trace.glsl"
+#ifdef OBJ_FRAME  // moving objects: GLSL passes only (probe_bindings.glsl binds them)
+#include "shaders/object_trace.glsl"
+#endif
 #include "shaders/probe_math.glsl"
 #include "shaders/light_math.glsl"
 #define PROBE_IRRADIANCE(i) irradiance[i]

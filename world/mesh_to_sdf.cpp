@@ -13,7 +13,7 @@
 #include <openvdb/tools/MeshToVolume.h>
 
 #include "core/error.h"
-#include "world/color_pack.h"
+#include "world/closest_material.h"
 #include "world/level_set_bricks.h"
 
 namespace sdfstream {
@@ -28,32 +28,6 @@ std::string formatBytes(double bytes) {
 }
 
 }  // namespace
-
-// Closest point on triangle (a,b,c) to p (Ericson, Real-Time Collision Detection 5.1.5), returned
-// as barycentrics (b1, b2) of b and c.
-glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-  glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return {0, 0};
-  glm::dvec3 bp = p - b;
-  double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return {1, 0};
-  double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {d1 / (d1 - d3), 0};
-  glm::dvec3 cp = p - c;
-  double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 1};
-  double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {0, d2 / (d2 - d6)};
-  double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {1 - w, w};
-  }
-  double denom = 1 / (va + vb + vc);
-  if (!std::isfinite(denom)) return {0, 0};  // degenerate triangle
-  return {vb * denom, vc * denom};
-}
 
 void validateScene(const TriangleScene& scene) {
   if (scene.triangles.empty())
@@ -198,18 +172,13 @@ World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimi
             float d = std::abs(dist.getValue(ijk));
             if (best < 0 || d < bestDist) best = t, bestDist = d;
           }
-          std::uint32_t albedo = 0, emission = 0;
+          PackedMaterial material;  // 0 / 0 when no triangle is within the band
           if (best >= 0) {
-            const glm::uvec3& tri = scene.triangles[std::size_t(best)];
             glm::dvec3 centre = (glm::dvec3(base + glm::ivec3(x, y, z)) + 0.5) * voxelSize;
-            glm::vec2 bary(closestBarycentrics(centre, glm::dvec3(scene.positions[tri.x]),
-                                               glm::dvec3(scene.positions[tri.y]),
-                                               glm::dvec3(scene.positions[tri.z])));
-            albedo = packAlbedo(sampleAlbedo(scene, std::uint32_t(best), bary));
-            emission = packRgb9e5(sampleEmission(scene, std::uint32_t(best), bary));
+            material = closestMaterial(scene, std::uint32_t(best), centre);
           }
-          brick.albedo[brickCellIndex(x, y, z)] = albedo;
-          brick.emission[brickCellIndex(x, y, z)] = emission;
+          brick.albedo[brickCellIndex(x, y, z)] = material.albedo;
+          brick.emission[brickCellIndex(x, y, z)] = material.emission;
         }
   });
   world.source = std::filesystem::path(scene.source).filename().string();

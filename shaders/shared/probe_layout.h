@@ -99,6 +99,8 @@ SDF_CONST uint kProbeOptionLightsChanged = 16u;
 SDF_CONST uint kProbeOptionAdaptiveHysteresis = 32u;
 SDF_CONST uint kProbeOptionFirstFrame = 64u;    // reset every probe (first frame, settings)
 SDF_CONST uint kProbeOptionCacheCheck = 128u;   // a window scrolled or pages changed: validate
+SDF_CONST uint kProbeOptionObjects = 512u;      // moving objects are bound (object_bindings.glsl)
+SDF_CONST uint kProbeObjectMaskShift = 12u;     // bits 12..15: region cascades listing an object
 
 // Push constants of every probe field pass: which sub-pass, how many threads.
 SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays into interior texels
@@ -121,6 +123,9 @@ SDF_CONST uint kProbeStatRaysCached = 6u;   // rays answered by the hit cache
 SDF_CONST uint kProbeStatSteps = 7u;        // sphere-tracing steps this frame
 SDF_CONST uint kProbeStatStates = 8u;       // [8, 12): probes per state after classify
 SDF_CONST uint kProbeStatCacheInvalidated = 12u;
+SDF_CONST uint kProbeStatObjectRays = 13u;   // rays that searched the moving objects
+SDF_CONST uint kProbeStatObjectHits = 14u;   // ... and hit one before the static scene
+SDF_CONST uint kProbeStatObjectSteps = 15u;  // object sphere-tracing steps
 SDF_CONST uint kProbeStatCount = 16u;
 
 // One irradiance query of probe_sample.comp (irradiance(x, n, view) of the field).

@@ -2,6 +2,7 @@
 // probe tests: one step() runs the light cache (dirty pages) and one probe field frame on both.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -26,6 +27,8 @@ struct GiHarness {
   std::vector<gpu_shared::GpuLight> lights;
   gpu_shared::GpuSky sky{};
   std::unique_ptr<CascadeStackImage> previous;
+  // Runs after the light cache and before the probes of each GPU frame (e.g. ObjectScene::update).
+  std::function<void(const CascadeStackImage&)> beforeProbes;
 
   GiHarness(gpu::Context& ctx, const probe::ProbeFieldSettings& s, std::uint32_t cascades,
             bool cpu = true, bool gpu = true)
@@ -46,6 +49,7 @@ struct GiHarness {
     if (runGpu) {
       if (upload) scene->uploadAll(image);
       lightGpu->update(*scene, lights, sky, dirty, image.voxelSize0);
+      if (beforeProbes) beforeProbes(image);
       gpuField->update(*scene, image, lightGpu->radianceBuffer(), in, frame);
     }
     if (runCpu) {

@@ -1,0 +1,133 @@
+#include "gi/object_frame.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdfstream {
+namespace gs = gpu_shared;
+
+ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library) {
+  ObjectAtlasData atlas;
+  for (std::uint32_t m = 0; m < library.size(); ++m) {
+    const ObjectSdf& sdf = library.mesh(m);
+    gs::ObjectMeshGpu rec{};
+    rec.dimsOffset = glm::uvec4(sdf.dims, std::uint32_t(atlas.distance.size()));
+    rec.gridMin = glm::vec4(sdf.gridMin, sdf.voxel);
+    atlas.meshes.push_back(rec);
+    atlas.distance.insert(atlas.distance.end(), sdf.distance.begin(), sdf.distance.end());
+    for (std::size_t i = 0; i < sdf.distance.size(); ++i)
+      atlas.material.emplace_back(sdf.albedo[i], sdf.emission[i]);
+  }
+  return atlas;
+}
+
+gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshIndex,
+                                      const glm::dmat4& worldFromObject,
+                                      const CascadeStackImage& stack) {
+  // stack = (world - cascade0MinWorld) / voxelSize0; object = gridMin + voxel · grid.
+  const double inv = 1.0 / stack.voxelSize0;
+  glm::dmat4 stackFromWorld(inv);
+  stackFromWorld[3] = glm::dvec4(-stack.cascade0MinWorld * inv, 1.0);
+  glm::dmat4 objectFromGrid(double(mesh.voxel));
+  objectFromGrid[3] = glm::dvec4(glm::dvec3(mesh.gridMin), 1.0);
+  const glm::dmat4 stackFromGrid = stackFromWorld * worldFromObject * objectFromGrid;
+  const glm::dmat4 gridFromStack = glm::inverse(stackFromGrid);
+
+  gs::ObjectInstanceGpu g{};
+  for (int r = 0; r < 3; ++r) {
+    g.stackFromGrid[r] = glm::vec4(stackFromGrid[0][r], stackFromGrid[1][r], stackFromGrid[2][r],
+                                   stackFromGrid[3][r]);
+    g.gridFromStack[r] = glm::vec4(gridFromStack[0][r], gridFromStack[1][r], gridFromStack[2][r],
+                                   gridFromStack[3][r]);
+  }
+  // Columns are orthogonal (rotation × diagonal scale), so the smallest singular value is the
+  // shortest column and the OBB's half axes are the columns times half the grid extent.
+  const glm::dvec3 hi = glm::dvec3(mesh.dims) - 1.0;
+  double stepScale = 1e30, radius2 = 0.0;
+  glm::dvec3 lo(1e300), up(-1e300);
+  for (int j = 0; j < 3; ++j) {
+    const double len = glm::length(glm::dvec3(stackFromGrid[j]));
+    stepScale = std::min(stepScale, len);
+    radius2 += (len * hi[j] * 0.5) * (len * hi[j] * 0.5);
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::dvec3 gc((corner & 1) ? hi.x : 0.0, (corner & 2) ? hi.y : 0.0,
+                        (corner & 4) ? hi.z : 0.0);
+    const glm::dvec3 p = glm::dvec3(stackFromGrid * glm::dvec4(gc, 1.0));
+    lo = glm::min(lo, p);
+    up = glm::max(up, p);
+  }
+  g.boundsMin = glm::vec4(glm::vec3(lo), float(stepScale));
+  g.boundsMax = glm::vec4(glm::vec3(up), float(std::sqrt(radius2)));
+  g.info = glm::uvec4(meshIndex, 0u, 0u, 0u);
+  return g;
+}
+
+namespace {
+// Inclusive region range of a stack AABB in region cascade c; false when it misses the grid.
+bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, glm::vec3 bmax,
+                 glm::ivec3& lo, glm::ivec3& hi) {
+  const glm::vec4 ro = f.regionOrigin[c];
+  const glm::vec3 o(ro);
+  const glm::vec3 a = (bmin - o) / ro.w, b = (bmax - o) / ro.w;
+  if (b.x < 0 || b.y < 0 || b.z < 0 || a.x > 8 || a.y > 8 || a.z > 8) return false;
+  lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
+  hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(7));
+  return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
+}
+}  // namespace
+
+ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
+                                 const CascadeStackImage& stack,
+                                 const ObjectSceneSettings& settings) {
+  ObjectFrameData out;
+  const std::uint32_t cascades = std::min<std::uint32_t>(
+      {settings.regionCascades, gs::kMaxRegionCascades, std::uint32_t(stack.params.size())});
+  gs::ObjectFrameGpu& f = out.frame;
+  f.counts =
+      glm::uvec4(std::uint32_t(instances.size()), cascades, 0u, std::uint32_t(library.size()));
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    const glm::vec4 os = stack.params[c].offsetScale;
+    f.regionOrigin[c] = glm::vec4(os.x, os.y, os.z, float(gs::kRegionCells) * os.w);
+  }
+  f.params = glm::vec4(settings.sizeRule, settings.hitEpsilon, float(settings.maxSteps), 0.0f);
+
+  out.regions.assign(std::size_t(cascades) * gs::kRegionsPerCascade, gs::ObjectRegionGpu{});
+  out.instances.reserve(instances.size());
+  std::uint64_t capacity = 0;
+  for (const Instance& inst : instances.instances()) {
+    gs::ObjectInstanceGpu g =
+        instanceInStack(library.mesh(inst.mesh), inst.mesh, inst.pose.matrix(), stack);
+    g.info.y = inst.movedThisFrame ? gs::kObjectFlagMoved : 0u;
+    g.info.z = inst.id;
+    out.movedInstances += inst.movedThisFrame ? 1u : 0u;
+    for (std::uint32_t c = 0; c < cascades; ++c) {
+      if (c > 0 && g.boundsMax.w < settings.sizeRule * f.regionOrigin[c].w / 16.0f) continue;
+      glm::ivec3 lo, hi;
+      if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi)) continue;
+      const glm::ivec3 ext = hi - lo + 1;
+      capacity += std::uint64_t(ext.x) * ext.y * ext.z;
+      out.cascadeMask |= 1u << c;
+    }
+    out.instances.push_back(g);
+  }
+  // Regions where something moved (old and new poses, removals included): the probes there wake.
+  for (const WorldBox& box : instances.changedBoxes(library)) {
+    const glm::vec3 bmin = stack.toStack(box.min), bmax = stack.toStack(box.max);
+    for (std::uint32_t c = 0; c < cascades; ++c) {
+      glm::ivec3 lo, hi;
+      if (!regionRange(f, c, bmin, bmax, lo, hi)) continue;
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x)
+            out.regions[c * gs::kRegionsPerCascade + x + 8 * (y + 8 * z)].moved = 1u;
+    }
+  }
+  for (const gs::ObjectRegionGpu& r : out.regions) out.movedRegions += r.moved != 0 ? 1u : 0u;
+  // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
+  out.listCapacity = std::uint32_t(capacity + capacity / 8 + 64);
+  f.counts.z = out.listCapacity;
+  return out;
+}
+
+}  // namespace sdfstream

@@ -1,0 +1,56 @@
+// The host half of the moving-object data (issue 7): the object-SDF atlas from the library and,
+// each frame, the instances carried into stack space plus the initial region records. Both the
+// GPU ObjectScene and its CPU reference ObjectSceneCpu consume exactly these, so host math is
+// written once.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "objects/instance_set.h"
+#include "objects/object_library.h"
+#include "shaders/shared/object_layout.h"
+#include "streaming/cascade_stack.h"
+
+namespace sdfstream {
+
+struct ObjectSceneSettings {
+  std::uint32_t regionCascades = 4;  // cascades with macro regions (<= kMaxRegionCascades)
+  // Objects whose bounding radius is below this many voxels of cascade c > 0 are not listed there
+  // (too small to block a coarse probe's rays; ARCHITECTURE: "object-size-to-voxel rule").
+  float sizeRule = 0.5f;
+  float hitEpsilon = 0.05f;     // grid voxels: a sample below this is a hit
+  std::uint32_t maxSteps = 96;  // sphere-tracing steps per instance segment
+};
+
+// Every mesh of the library, packed: ObjectMeshGpu records, distances, (albedo, emission) pairs.
+struct ObjectAtlasData {
+  std::vector<gpu_shared::ObjectMeshGpu> meshes;
+  std::vector<float> distance;
+  std::vector<glm::uvec2> material;
+};
+ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library);
+
+struct ObjectFrameData {
+  gpu_shared::ObjectFrameGpu frame{};
+  std::vector<gpu_shared::ObjectInstanceGpu> instances;  // dense, InstanceSet order
+  std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor 0; moved from the
+                                                         // changed boxes (old and new poses)
+  std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
+  std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
+  std::uint32_t movedInstances = 0;
+  std::uint32_t movedRegions = 0;  // regions flagged moved (removals included)
+};
+
+// The instance as the GPU sees it: grid <-> stack maps, stack AABB, step scale, radius.
+gpu_shared::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshIndex,
+                                              const glm::dmat4& worldFromObject,
+                                              const CascadeStackImage& stack);
+
+ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
+                                 const CascadeStackImage& stack,
+                                 const ObjectSceneSettings& settings);
+
+}  // namespace sdfstream

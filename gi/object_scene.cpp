@@ -1,0 +1,141 @@
+#include "gi/object_scene.h"
+
+#include <cstring>
+
+#include "shaders/shared/sdf_layout.h"
+
+namespace sdfstream {
+namespace gs = gpu_shared;
+namespace {
+constexpr glm::uvec3 kGroup(64, 1, 1);
+
+// Grows a buffer to at least `bytes` (contents not kept).
+void ensure(gpu::Context& ctx, gpu::Buffer& b, std::size_t bytes, gpu::BufferKind kind) {
+  if (b.size() < bytes) b = gpu::Buffer(ctx, std::max<std::size_t>(bytes, 4), kind);
+}
+}  // namespace
+
+NoObjectsBindings::NoObjectsBindings(gpu::Context& context)
+    : meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
+            gpu::BufferKind::Upload),
+      empty_(context, 64, gpu::BufferKind::DeviceLocal) {
+  std::memset(meta_.mapped(), 0, meta_.size());
+}
+
+ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
+    : context_(context),
+      settings_(settings),
+      regionsPipeline_(context, gpu::ShaderId::object_regions,
+                       gpu::PipelineDesc{6, sizeof(gs::ObjectRegionPush), kGroup}),
+      tracePipeline_(context, gpu::ShaderId::object_trace,
+                     gpu::PipelineDesc{8, sizeof(gs::ObjectTracePush), kGroup}),
+      meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
+            gpu::BufferKind::Upload),
+      instances_(context, sizeof(gs::ObjectInstanceGpu), gpu::BufferKind::Upload),
+      regions_(context, sizeof(gs::ObjectRegionGpu), gpu::BufferKind::DeviceLocal),
+      regionsInit_(context, sizeof(gs::ObjectRegionGpu), gpu::BufferKind::Upload),
+      lists_(context, 4, gpu::BufferKind::DeviceLocal),
+      distance_(context, 4, gpu::BufferKind::DeviceLocal),
+      material_(context, 8, gpu::BufferKind::DeviceLocal) {
+  // Inactive until the first update: the meta buffer must still read as "no instances".
+  std::memset(meta_.mapped(), 0, meta_.size());
+}
+
+void ObjectScene::uploadAtlas(const ObjectLibrary& library) {
+  ObjectAtlasData atlas = buildObjectAtlas(library);
+  meshes_ = std::move(atlas.meshes);
+  const std::size_t distBytes = atlas.distance.size() * sizeof(float);
+  const std::size_t matBytes = atlas.material.size() * sizeof(glm::uvec2);
+  distance_ =
+      gpu::Buffer(context_, std::max<std::size_t>(distBytes, 4), gpu::BufferKind::DeviceLocal);
+  material_ =
+      gpu::Buffer(context_, std::max<std::size_t>(matBytes, 8), gpu::BufferKind::DeviceLocal);
+  if (distBytes > 0) distance_.upload(atlas.distance.data(), distBytes);
+  if (matBytes > 0) material_.upload(atlas.material.data(), matBytes);
+  atlasVersion_ = library.version();
+}
+
+void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instances,
+                         const CascadeStackImage& stack) {
+  if (library.version() != atlasVersion_) uploadAtlas(library);
+  frame_ = buildObjectFrame(library, instances, stack, settings_);
+  timings_.clear();
+
+  // The host writes meta and instances directly (update() blocks, so the GPU is idle here).
+  const std::size_t metaBytes =
+      sizeof(gs::ObjectFrameGpu) + meshes_.size() * sizeof(gs::ObjectMeshGpu);
+  ensure(context_, meta_, metaBytes, gpu::BufferKind::Upload);
+  std::memcpy(meta_.mapped(), &frame_.frame, sizeof(gs::ObjectFrameGpu));
+  if (!meshes_.empty())
+    std::memcpy(static_cast<char*>(meta_.mapped()) + sizeof(gs::ObjectFrameGpu), meshes_.data(),
+                meshes_.size() * sizeof(gs::ObjectMeshGpu));
+  if (!active()) return;  // nothing to list: no pass at all
+
+  const std::size_t instBytes = frame_.instances.size() * sizeof(gs::ObjectInstanceGpu);
+  ensure(context_, instances_, instBytes, gpu::BufferKind::Upload);
+  if (instBytes > 0) std::memcpy(instances_.mapped(), frame_.instances.data(), instBytes);
+  const std::size_t regionBytes = frame_.regions.size() * sizeof(gs::ObjectRegionGpu);
+  ensure(context_, regionsInit_, regionBytes, gpu::BufferKind::Upload);
+  ensure(context_, regions_, regionBytes, gpu::BufferKind::DeviceLocal);
+  std::memcpy(regionsInit_.mapped(), frame_.regions.data(), regionBytes);
+  ensure(context_, lists_, std::size_t(frame_.listCapacity) * 4, gpu::BufferKind::DeviceLocal);
+
+  const std::uint32_t n = frame_.frame.counts.x, cascades = frame_.frame.counts.y;
+  const auto bufs = buffers();
+  gpu::CommandBatch batch = context_.beginBatch(3);
+  batch.copy(regionsInit_, regions_, regionBytes);
+  if (n == 0) {  // only removals: the moved flags, no lists to build
+    batch.submitAndWait();
+    return;
+  }
+  gs::ObjectRegionPush push{0u, n, cascades, frame_.listCapacity};
+  batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u * n, cascades, 1u));
+  push.phase = 1u;
+  batch.dispatch("object_regions_scan", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u, 1u, 1u));
+  push.phase = 2u;
+  batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u * n, cascades, 1u));
+  batch.submitAndWait();
+  timings_ = batch.timings();
+}
+
+std::vector<gs::ObjectTraceHit> ObjectScene::trace(std::span<const gs::TraceRay> rays,
+                                                   bool bruteForce) {
+  std::vector<gs::ObjectTraceHit> hits(rays.size());
+  traceTimings_.clear();
+  if (rays.empty()) return hits;
+  ensure(context_, rays_, rays.size_bytes(), gpu::BufferKind::Upload);
+  ensure(context_, hits_, hits.size() * sizeof(gs::ObjectTraceHit), gpu::BufferKind::Readback);
+  std::memcpy(rays_.mapped(), rays.data(), rays.size_bytes());
+  const gs::ObjectTracePush push{std::uint32_t(rays.size()), bruteForce ? 1u : 0u, 0u, 0u};
+  const std::array<const gpu::Buffer*, 8> bufs = {&meta_,     &instances_, &regions_, &lists_,
+                                                  &distance_, &material_,  &rays_,    &hits_};
+  gpu::CommandBatch batch = context_.beginBatch(1);
+  batch.dispatch(bruteForce ? "object_trace_all" : "object_trace_regions", tracePipeline_, bufs,
+                 &push, sizeof push, glm::uvec3(std::uint32_t(rays.size()), 1u, 1u));
+  batch.submitAndWait();
+  traceTimings_ = batch.timings();
+  std::memcpy(hits.data(), hits_.mapped(), hits.size() * sizeof(gs::ObjectTraceHit));
+  return hits;
+}
+
+std::vector<gs::ObjectRegionGpu> ObjectScene::downloadRegions() const {
+  std::vector<gs::ObjectRegionGpu> out(frame_.regions.size());
+  if (!out.empty() && active()) regions_.download(out.data(), out.size() * sizeof out[0]);
+  return out;
+}
+
+std::vector<std::uint32_t> ObjectScene::downloadLists() const {
+  std::vector<std::uint32_t> out(active() ? frame_.listCapacity : 0);
+  if (!out.empty()) lists_.download(out.data(), out.size() * 4);
+  return out;
+}
+
+std::size_t ObjectScene::deviceBytes() const {
+  return meta_.size() + instances_.size() + regions_.size() + regionsInit_.size() + lists_.size() +
+         distance_.size() + material_.size();
+}
+
+}  // namespace sdfstream

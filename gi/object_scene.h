@@ -1,0 +1,85 @@
+// Moving objects on the GPU (issue 7 items 1-5): the object-SDF atlas (uploaded when the library
+// changes), this frame's instances in stack space, and the macro-region object lists rebuilt by
+// object_regions.comp (count -> scan -> fill) every frame from the instances. Passes that trace
+// objects bind buffers() at their OBJ_BINDING_BASE (shaders/object_bindings.glsl). With no
+// instance at all nothing is dispatched (active() is false), so static-only frames cost exactly
+// what they cost before objects existed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gi/object_frame.h"
+#include "gpu/buffer.h"
+#include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
+
+namespace sdfstream {
+
+// What passes that can trace objects bind when a frame has none: a zeroed meta buffer (zero
+// instances, so the shaders read nothing else) and a tiny buffer for the other five bindings.
+class NoObjectsBindings {
+ public:
+  explicit NoObjectsBindings(gpu::Context& context);
+  std::array<const gpu::Buffer*, 6> buffers() const {
+    return {&meta_, &empty_, &empty_, &empty_, &empty_, &empty_};
+  }
+
+ private:
+  gpu::Buffer meta_, empty_;
+};
+
+class ObjectScene {
+ public:
+  ObjectScene(gpu::Context& context, ObjectSceneSettings settings = {});
+
+  // Rebuilds this frame's data: re-uploads the atlas when library.version() changed, uploads the
+  // instances (poses relative to `stack`'s cascade 0) and runs the region passes. Blocking.
+  // Call once per frame before the passes that trace objects, then instances.endFrame().
+  void update(const ObjectLibrary& library, const InstanceSet& instances,
+              const CascadeStackImage& stack);
+
+  // Something to bind this frame: instances, or regions where an instance was just removed (the
+  // probes there must still wake up). False: passes bind NoObjectsBindings instead.
+  bool active() const { return frame_.frame.counts.x > 0 || frame_.movedRegions > 0; }
+  bool hasInstances() const { return frame_.frame.counts.x > 0; }
+  // Bit c: some instance is listed in region cascade c (host AABB level, size rule applied).
+  std::uint32_t cascadeMask() const { return frame_.cascadeMask; }
+  const ObjectFrameData& frame() const { return frame_; }
+  const ObjectSceneSettings& settings() const { return settings_; }
+
+  // The six buffers of object_bindings.glsl, in binding order.
+  std::array<const gpu::Buffer*, 6> buffers() const {
+    return {&meta_, &instances_, &regions_, &lists_, &distance_, &material_};
+  }
+
+  // Rays (stack space) against the objects only: through the region lists, or every instance
+  // (bruteForce: the naive peer). Blocking; for tests and the stress benchmark.
+  std::vector<gpu_shared::ObjectTraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
+                                                bool bruteForce);
+
+  std::vector<gpu_shared::ObjectRegionGpu> downloadRegions() const;
+  std::vector<std::uint32_t> downloadLists() const;
+  // GPU times of the last update's region passes (count, scan, fill); empty when inactive.
+  const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
+  const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }
+  std::size_t deviceBytes() const;
+
+ private:
+  void uploadAtlas(const ObjectLibrary& library);
+
+  gpu::Context& context_;
+  ObjectSceneSettings settings_;
+  gpu::ComputePipeline regionsPipeline_, tracePipeline_;
+  gpu::Buffer meta_, instances_, regions_, regionsInit_, lists_, distance_, material_;
+  gpu::Buffer rays_, hits_;
+  std::uint64_t atlasVersion_ = ~std::uint64_t(0);
+  std::vector<gpu_shared::ObjectMeshGpu> meshes_;
+  ObjectFrameData frame_;
+  std::vector<gpu::PassTiming> timings_, traceTimings_;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,43 @@
+// CPU reference of the moving-object passes (issue 7 "Must show"): region lists by brute force
+// (every region of every region cascade tested against every instance, no AABB ranges, no
+// atomics) and the traversal of shaders/object_trace.glsl compiled as C++ (the same math as the
+// GPU: STYLE.md habit 9).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gi/object_frame.h"
+#include "shaders/shared/sdf_layout.h"
+
+namespace sdfstream {
+
+class ObjectSceneCpu {
+ public:
+  ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& instances,
+                 const CascadeStackImage& stack, const ObjectSceneSettings& settings = {});
+
+  // Per region (cascade * 512 + region): the sorted instance indices whose OBB overlaps it
+  // (size rule applied).
+  const std::vector<std::vector<std::uint32_t>>& regionInstances() const { return lists_; }
+  // Regions a moved instance (this frame) overlaps, or the host marked from changed boxes.
+  bool regionMoved(std::uint32_t region) const;
+
+  // objTraceRegions / objTraceAll of shaders/object_trace.glsl, as C++.
+  gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray) const;
+  gpu_shared::ObjectTraceHit traceAll(const gpu_shared::TraceRay& ray) const;
+  // Signed distance in stack voxels from p to instance i (objInstanceDistance).
+  float instanceDistance(std::uint32_t i, glm::vec3 p) const;
+
+  const ObjectFrameData& frame() const { return frame_; }
+
+ private:
+  ObjectAtlasData atlas_;
+  ObjectFrameData frame_;
+  std::vector<std::vector<std::uint32_t>> lists_;
+  std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start into flat_
+  std::vector<std::uint32_t> flat_;
+  std::vector<std::uint8_t> moved_;
+};
+
+}  // namespace sdfstream

@@ -1,0 +1,120 @@
+#include "objects/instance_set.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace sdfstream {
+namespace {
+
+bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+void ObjectTransform::validate() const {
+  if (!finite(translation)) throw std::invalid_argument("ObjectTransform: non-finite translation");
+  const glm::dvec4 q(rotation.w, rotation.x, rotation.y, rotation.z);
+  if (!finite(glm::dvec3(q)) || !std::isfinite(q.w) || glm::dot(q, q) == 0.0)
+    throw std::invalid_argument("ObjectTransform: rotation is zero or non-finite");
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(scale[a]) || scale[a] == 0.0f)
+      throw std::invalid_argument("ObjectTransform: scale component " + std::to_string(a) + " is " +
+                                  std::to_string(scale[a]) + " (must be finite and nonzero)");
+}
+
+glm::dmat4 ObjectTransform::matrix() const {
+  validate();
+  const glm::dquat r = glm::normalize(glm::dquat(rotation.w, rotation.x, rotation.y, rotation.z));
+  return glm::translate(glm::dmat4(1.0), translation) * glm::mat4_cast(r) *
+         glm::scale(glm::dmat4(1.0), glm::dvec3(scale));
+}
+
+WorldBox worldBoundsOf(const ObjectSdf& sdf, const ObjectTransform& pose) {
+  const glm::dmat4 m = pose.matrix();
+  const glm::dvec3 lo(sdf.gridMin), hi(sdf.gridMax());
+  WorldBox box{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+    const glm::dvec3 w(m * glm::dvec4(corner, 1.0));
+    box.min = glm::min(box.min, w);
+    box.max = glm::max(box.max, w);
+  }
+  return box;
+}
+
+InstanceId InstanceSet::add(std::uint32_t mesh, const ObjectTransform& pose) {
+  pose.validate();
+  if (slot_.size() >= std::size_t(UINT32_MAX))
+    throw std::length_error("InstanceSet: ids exhausted");
+  const InstanceId id = InstanceId(slot_.size());
+  slot_.push_back(std::uint32_t(instances_.size()));
+  changeOf_.push_back(kAbsent);
+  instances_.push_back({id, mesh, pose, true});
+  recordChange(instances_.back(), false);
+  return id;
+}
+
+std::uint32_t InstanceSet::slotOf(InstanceId id) const {
+  if (id >= slot_.size() || slot_[id] == kAbsent)
+    throw std::out_of_range("InstanceSet: no instance with id " + std::to_string(id));
+  return slot_[id];
+}
+
+void InstanceSet::move(InstanceId id, const ObjectTransform& pose) {
+  const std::uint32_t slot = slotOf(id);
+  pose.validate();
+  Instance& instance = instances_[slot];
+  recordChange(instance, true);  // before the pose changes: keeps the frame's start pose
+  instance.pose = pose;
+  instance.movedThisFrame = true;
+}
+
+void InstanceSet::remove(InstanceId id) {
+  const std::uint32_t slot = slotOf(id);
+  recordChange(instances_[slot], true);
+  if (slot + 1 != instances_.size()) {
+    instances_[slot] = instances_.back();
+    slot_[instances_[slot].id] = slot;
+  }
+  instances_.pop_back();
+  slot_[id] = kAbsent;
+}
+
+bool InstanceSet::contains(InstanceId id) const {
+  return id < slot_.size() && slot_[id] != kAbsent;
+}
+
+const Instance* InstanceSet::find(InstanceId id) const {
+  return contains(id) ? &instances_[slot_[id]] : nullptr;
+}
+
+void InstanceSet::recordChange(const Instance& instance, bool existedBefore) {
+  if (changeOf_[instance.id] != kAbsent) return;  // the frame's start pose is already kept
+  changeOf_[instance.id] = std::uint32_t(changes_.size());
+  changes_.push_back(
+      {instance.id, instance.mesh, existedBefore ? std::optional(instance.pose) : std::nullopt});
+}
+
+std::vector<WorldBox> InstanceSet::changedBoxes(const ObjectLibrary& lib) const {
+  std::vector<WorldBox> boxes;
+  boxes.reserve(changes_.size() * 2);
+  for (const Change& c : changes_) {
+    const ObjectSdf& sdf = lib.mesh(c.mesh);
+    if (c.before) boxes.push_back(worldBoundsOf(sdf, *c.before));
+    if (const Instance* now = find(c.id)) boxes.push_back(worldBoundsOf(sdf, now->pose));
+  }
+  return boxes;
+}
+
+void InstanceSet::endFrame() {
+  // Only changed instances can have the flag set: O(changes), not O(instances).
+  for (const Change& c : changes_) {
+    changeOf_[c.id] = kAbsent;
+    if (contains(c.id)) instances_[slot_[c.id]].movedThisFrame = false;
+  }
+  changes_.clear();
+}
+
+}  // namespace sdfstream

@@ -1,0 +1,340 @@
+// Rays against moving objects (issue 7 item 4; Godot SDFGI slides b, "Solution: Split into
+// smaller SDFs and combine with DDA"): each instance is a rigid/scaled copy of its mesh's local
+// SDF (object_layout.h); a ray walks the macro regions of the finest cascade that holds it (DDA
+// over 16³-cell regions, empty ones skipped by their count), and inside a non-empty region sphere
+// traces every listed instance in its own grid space over the part of the ray inside the region.
+// objTraceAll is the brute-force peer (every instance, no regions) the tests compare with.
+//
+// Single definition for GLSL and C++ (as sdf_trace.glsl: no swizzles, no out parameters, f
+// suffixes). Needs SDF_PRECISE (sdf_trace.glsl defines it; so does object_regions.comp). Define
+// first:
+//   OBJ_FRAME          -> ObjectFrameGpu of this frame
+//   OBJ_MESH(m)        -> ObjectMeshGpu m
+//   OBJ_INSTANCE(i)    -> ObjectInstanceGpu i
+//   OBJ_REGION(i)      -> ObjectRegionGpu i (cascade * 512 + region)
+//   OBJ_LIST(i)        -> uint entry i of the region lists (instance indices)
+//   OBJ_DIST(i)        -> float sample i of the object-SDF atlas (grid voxels)
+//   OBJ_MAT(i)         -> uvec2 (albedo RGBA8, emission RGB9E5) of sample i
+// Rays are in stack space (cascade-0 voxels from cascade 0's minimum corner), unit direction.
+
+struct ObjectHit {
+  float t;          // stack voxels along the ray; < 0: no hit
+  uint instance;    // index into OBJ_INSTANCE
+  vec3 normal;      // unit, stack space
+  uint albedo;      // RGBA8 of the sample nearest to the hit
+  uint emission;    // RGB9E5
+  uint steps;       // sphere-tracing steps over all instances tried (cost metric)
+  uint instancesTried;
+};
+
+ObjectHit objMiss() {
+  ObjectHit h;
+  h.t = -1.0f;
+  h.instance = 0u;
+  h.normal = vec3(0.0f, 0.0f, 1.0f);
+  h.albedo = 0u;
+  h.emission = 0u;
+  h.steps = 0u;
+  h.instancesTried = 0u;
+  return h;
+}
+
+// Slab test against [lo, hi]: (tEnter, tExit), empty when tEnter > tExit. The object passes keep
+// their own copy of the two box helpers so they do not need the static traversal's bindings.
+vec2 objBoxClip(vec3 o, vec3 invDir, vec3 lo, vec3 hi) {
+  SDF_PRECISE vec3 t0 = (lo - o) * invDir;
+  SDF_PRECISE vec3 t1 = (hi - o) * invDir;
+  vec3 tNear = min(t0, t1);
+  vec3 tFar = max(t0, t1);
+  return vec2(max(tNear.x, max(tNear.y, tNear.z)), min(tFar.x, min(tFar.y, tFar.z)));
+}
+
+vec3 objSafeInverse(vec3 d) {
+  float big = 1e30f;
+  return vec3(abs(d.x) > 1e-12f ? 1.0f / d.x : big, abs(d.y) > 1e-12f ? 1.0f / d.y : big,
+              abs(d.z) > 1e-12f ? 1.0f / d.z : big);
+}
+
+vec3 objAffine(vec4 r0, vec4 r1, vec4 r2, vec3 p) {
+  return vec3(dot(vec3(r0.x, r0.y, r0.z), p) + r0.w, dot(vec3(r1.x, r1.y, r1.z), p) + r1.w,
+              dot(vec3(r2.x, r2.y, r2.z), p) + r2.w);
+}
+
+vec3 objLinear(vec4 r0, vec4 r1, vec4 r2, vec3 v) {
+  return vec3(dot(vec3(r0.x, r0.y, r0.z), v), dot(vec3(r1.x, r1.y, r1.z), v),
+              dot(vec3(r2.x, r2.y, r2.z), v));
+}
+
+float objSample(uint base, uvec3 dims, uint x, uint y, uint z) {
+  return OBJ_DIST(base + x + dims.x * (y + dims.y * z));
+}
+
+// Trilinear distance (grid voxels) at grid position g, clamped into the grid box.
+float objGridDistance(ObjectMeshGpu m, vec3 g) {
+  uvec3 dims = uvec3(m.dimsOffset.x, m.dimsOffset.y, m.dimsOffset.z);
+  vec3 hi = vec3(float(dims.x) - 1.001f, float(dims.y) - 1.001f, float(dims.z) - 1.001f);
+  vec3 c = clamp(g, vec3(0.0f), hi);
+  uint x0 = uint(c.x);
+  uint y0 = uint(c.y);
+  uint z0 = uint(c.z);
+  vec3 f = c - vec3(float(x0), float(y0), float(z0));
+  uint b = m.dimsOffset.w;
+  float d000 = objSample(b, dims, x0, y0, z0);
+  float d100 = objSample(b, dims, x0 + 1u, y0, z0);
+  float d010 = objSample(b, dims, x0, y0 + 1u, z0);
+  float d110 = objSample(b, dims, x0 + 1u, y0 + 1u, z0);
+  float d001 = objSample(b, dims, x0, y0, z0 + 1u);
+  float d101 = objSample(b, dims, x0 + 1u, y0, z0 + 1u);
+  float d011 = objSample(b, dims, x0, y0 + 1u, z0 + 1u);
+  float d111 = objSample(b, dims, x0 + 1u, y0 + 1u, z0 + 1u);
+  float x00 = mix(d000, d100, f.x);
+  float x10 = mix(d010, d110, f.x);
+  float x01 = mix(d001, d101, f.x);
+  float x11 = mix(d011, d111, f.x);
+  return mix(mix(x00, x10, f.y), mix(x01, x11, f.y), f.z);
+}
+
+// Signed distance (stack voxels, a lower bound of the true distance outside) from stack point p
+// to instance i; the grid box's outside counts as the distance to the box plus the box value.
+float objInstanceDistance(uint i, vec3 p) {
+  ObjectInstanceGpu inst = OBJ_INSTANCE(i);
+  ObjectMeshGpu m = OBJ_MESH(inst.info.x);
+  vec3 g = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], p);
+  vec3 hi = vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u),
+                 float(m.dimsOffset.z - 1u));
+  vec3 outside = max(max(-g, g - hi), vec3(0.0f));
+  return (objGridDistance(m, g) + length(outside)) * inst.boundsMin.w;
+}
+
+// Sphere traces instance i over [t0, t1] of the ray (stack space). The grid distance times the
+// instance's stepScale never exceeds the stack-space distance, so steps cannot skip a surface
+// (non-uniform scale included); a ray that starts inside the object hits at once.
+ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
+  ObjectHit h = objMiss();
+  ObjectInstanceGpu inst = OBJ_INSTANCE(i);
+  ObjectMeshGpu m = OBJ_MESH(inst.info.x);
+  vec3 go = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], o);
+  vec3 gd = objLinear(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], d);
+  vec3 hi = vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u),
+                 float(m.dimsOffset.z - 1u));
+  vec2 span = objBoxClip(go, objSafeInverse(gd), vec3(0.0f), hi);
+  float t = max(t0, span.x);
+  float tEnd = min(t1, span.y);
+  if (t > tEnd) return h;
+  h.instancesTried = 1u;
+  float stepScale = inst.boundsMin.w;
+  float eps = OBJ_FRAME.params.y;
+  uint maxSteps = uint(OBJ_FRAME.params.z);
+  for (uint s = 0u; s < maxSteps; ++s) {
+    SDF_PRECISE vec3 g = go + gd * t;
+    float dist = objGridDistance(m, g);
+    h.steps += 1u;
+    if (dist < eps) {
+      h.t = t;
+      h.instance = i;
+      // Normal: the grid gradient carried to stack space (the gradient of d(gridFromStack·p)).
+      float e = 0.5f;
+      float dx = objGridDistance(m, g + vec3(e, 0.0f, 0.0f)) - objGridDistance(m, g - vec3(e, 0.0f, 0.0f));
+      float dy = objGridDistance(m, g + vec3(0.0f, e, 0.0f)) - objGridDistance(m, g - vec3(0.0f, e, 0.0f));
+      float dz = objGridDistance(m, g + vec3(0.0f, 0.0f, e)) - objGridDistance(m, g - vec3(0.0f, 0.0f, e));
+      vec3 r0 = vec3(inst.gridFromStack[0].x, inst.gridFromStack[0].y, inst.gridFromStack[0].z);
+      vec3 r1 = vec3(inst.gridFromStack[1].x, inst.gridFromStack[1].y, inst.gridFromStack[1].z);
+      vec3 r2 = vec3(inst.gridFromStack[2].x, inst.gridFromStack[2].y, inst.gridFromStack[2].z);
+      vec3 n = r0 * dx + r1 * dy + r2 * dz;
+      // One Newton step along the ray onto the zero crossing (d(t) is nearly linear within a
+      // voxel of a surface): the hit lands on the surface, not up to eps before it.
+      float slope = dot(vec3(dx, dy, dz), gd);  // grid voxels per stack voxel, × 2e
+      if (slope < -1e-4f) h.t = max(t0, t - clamp(dist * 2.0f * e / slope, -stepScale, stepScale));
+      float len = length(n);
+      h.normal = len > 1e-12f ? n / len : -d;
+      vec3 c = clamp(g + vec3(0.5f), vec3(0.0f), hi);
+      uint idx = m.dimsOffset.w + uint(c.x) + m.dimsOffset.x * (uint(c.y) + m.dimsOffset.y * uint(c.z));
+      uvec2 material = OBJ_MAT(idx);
+      h.albedo = material.x;
+      h.emission = material.y;
+      return h;
+    }
+    t += max(0.9f * dist, 0.02f) * stepScale;
+    if (t > tEnd) break;
+  }
+  return h;
+}
+
+// Keeps the nearer of two hits; equal distances go to the lower instance index, so the result
+// does not depend on the order of a region's list (built with atomics).
+ObjectHit objNearer(ObjectHit best, ObjectHit h) {
+  uint steps = best.steps + h.steps;
+  uint tried = best.instancesTried + h.instancesTried;
+  ObjectHit r = best;
+  if (h.t >= 0.0f && (best.t < 0.0f || h.t < best.t || (h.t == best.t && h.instance < best.instance)))
+    r = h;
+  r.steps = steps;
+  r.instancesTried = tried;
+  return r;
+}
+
+// Brute force: every instance whose AABB the ray crosses within [tMin, tMax].
+ObjectHit objTraceAll(vec3 o, vec3 d, float tMin, float tMax) {
+  ObjectHit best = objMiss();
+  vec3 inv = objSafeInverse(d);
+  for (uint i = 0u; i < OBJ_FRAME.counts.x; ++i) {
+    ObjectInstanceGpu inst = OBJ_INSTANCE(i);
+    vec2 span = objBoxClip(o, inv, vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
+                           vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z));
+    float hiT = best.t >= 0.0f ? min(tMax, best.t) : tMax;
+    if (max(span.x, tMin) > min(span.y, hiT)) continue;
+    best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT));
+  }
+  return best;
+}
+
+// Whether a region grid cascade c holds stack point p (faces included).
+bool objInRegionGrid(uint c, vec3 p) {
+  vec4 ro = OBJ_FRAME.regionOrigin[c];
+  vec3 q = (p - vec3(ro.x, ro.y, ro.z)) / ro.w;
+  return q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= 8.0f && q.y <= 8.0f && q.z <= 8.0f;
+}
+
+// DDA over the macro regions (finest cascade holding the current point), tracing the instances
+// listed in each non-empty region over the ray's stretch inside it. A surface point in region R
+// lies inside every listed instance's OBB that contains it, so the first region with a hit holds
+// the nearest one. Regions cover the first OBJ_FRAME.counts.y cascades only: beyond them the
+// ray sees no objects. Like the static traversal of a probe (sdfTraceStackFrom), a ray uses the
+// regions of firstCascade and coarser only, so a coarse probe sees the objects the size rule
+// lists for its cascade.
+ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
+  ObjectHit best = objMiss();
+  uint cascades = OBJ_FRAME.counts.y;
+  if (OBJ_FRAME.counts.x == 0u || firstCascade >= cascades) return best;
+  vec3 inv = objSafeInverse(d);
+  // Clip to the coarsest region grid: nothing is listed outside it.
+  vec4 outer = OBJ_FRAME.regionOrigin[cascades - 1u];
+  vec3 outerLo = vec3(outer.x, outer.y, outer.z);
+  vec2 span = objBoxClip(o, inv, outerLo, outerLo + vec3(8.0f * outer.w));
+  float t = max(tMin, span.x);
+  float tEnd = min(tMax, span.y);
+  for (uint step = 0u; step < 512u && t <= tEnd; ++step) {
+    // The finest cascade holding the point a hair past t (the region being entered).
+    uint c = cascades - 1u;
+    for (uint k = firstCascade; k < cascades; ++k) {
+      if (objInRegionGrid(k, o + d * (t + 1e-4f))) {
+        c = k;
+        break;
+      }
+    }
+    vec4 ro = OBJ_FRAME.regionOrigin[c];
+    vec3 lo = vec3(ro.x, ro.y, ro.z);
+    vec3 q = (o + d * (t + 1e-4f) - lo) / ro.w;
+    ivec3 r = clamp(ivec3(floor(q)), ivec3(0), ivec3(7));
+    vec3 rLo = lo + vec3(float(r.x), float(r.y), float(r.z)) * ro.w;
+    float exitT = objBoxClip(o, inv, rLo, rLo + vec3(ro.w)).y;
+    float segEnd = min(exitT, tEnd);
+    ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
+    for (uint k = 0u; k < region.count; ++k) {
+      uint i = OBJ_LIST(region.start + k);
+      // A little past the region's exit, so a surface exactly on its face is not lost.
+      float hiT = best.t >= 0.0f ? min(best.t, segEnd + 1e-3f) : segEnd + 1e-3f;
+      best = objNearer(best, objTraceInstance(i, o, d, t, hiT));
+    }
+    if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;
+    t = max(exitT, t + 1e-4f * ro.w);
+  }
+  return best;
+}
+
+// Separating-axis test of an instance's oriented grid box against the axis-aligned stack box
+// [lo, hi] (15 axes: the box's 3, the OBB's 3 and their 9 cross products; Gottschalk et al.,
+// "OBBTree"). Non-uniform scale keeps the OBB's edges orthogonal (rotation × diagonal), so this is
+// exact; faces that touch count as overlapping. The region build (object_regions.comp) and its
+// brute-force reference (gi/object_scene_cpu.cpp) both call it.
+bool objObbOverlapsBox(ObjectInstanceGpu inst, uvec3 dims, vec3 lo, vec3 hi) {
+  vec3 hg = vec3(float(dims.x - 1u), float(dims.y - 1u), float(dims.z - 1u)) * 0.5f;
+  vec3 cB = objAffine(inst.stackFromGrid[0], inst.stackFromGrid[1], inst.stackFromGrid[2], hg);
+  vec3 a0 = vec3(inst.stackFromGrid[0].x, inst.stackFromGrid[1].x, inst.stackFromGrid[2].x) * hg.x;
+  vec3 a1 = vec3(inst.stackFromGrid[0].y, inst.stackFromGrid[1].y, inst.stackFromGrid[2].y) * hg.y;
+  vec3 a2 = vec3(inst.stackFromGrid[0].z, inst.stackFromGrid[1].z, inst.stackFromGrid[2].z) * hg.z;
+  vec3 hA = (hi - lo) * 0.5f;
+  vec3 T = cB - (lo + hi) * 0.5f;
+  vec3 axes[15];
+  axes[0] = vec3(1.0f, 0.0f, 0.0f);
+  axes[1] = vec3(0.0f, 1.0f, 0.0f);
+  axes[2] = vec3(0.0f, 0.0f, 1.0f);
+  axes[3] = a0;
+  axes[4] = a1;
+  axes[5] = a2;
+  for (uint k = 0u; k < 3u; ++k) {
+    axes[6u + k * 3u] = cross(axes[k], a0);
+    axes[7u + k * 3u] = cross(axes[k], a1);
+    axes[8u + k * 3u] = cross(axes[k], a2);
+  }
+  for (uint k = 0u; k < 15u; ++k) {
+    vec3 L = axes[k];
+    float rA = hA.x * abs(L.x) + hA.y * abs(L.y) + hA.z * abs(L.z);
+    float rB = abs(dot(a0, L)) + abs(dot(a1, L)) + abs(dot(a2, L));
+    // Relative slack: parallel edges give a zero cross product (0 > 0 is false: no separation).
+    if (abs(dot(T, L)) > (rA + rB) * 1.0001f + 1e-6f * length(L)) return false;
+  }
+  return true;
+}
+
+// Region range [lo, hi] (inclusive, 0..7) of cascade c that an instance's AABB overlaps; lo > hi
+// on some axis when it misses the cascade's region grid. Also applies the size rule.
+struct ObjRegionRange {
+  ivec3 lo;
+  ivec3 hi;
+  bool any;
+};
+
+ObjRegionRange objRegionRange(ObjectInstanceGpu inst, uint c) {
+  ObjRegionRange rr;
+  vec4 ro = OBJ_FRAME.regionOrigin[c];
+  vec3 o = vec3(ro.x, ro.y, ro.z);
+  vec3 bmin = (vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z) - o) / ro.w;
+  vec3 bmax = (vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z) - o) / ro.w;
+  rr.lo = max(ivec3(floor(bmin)), ivec3(0));
+  rr.hi = min(ivec3(floor(bmax)), ivec3(7));
+  rr.any = rr.lo.x <= rr.hi.x && rr.lo.y <= rr.hi.y && rr.lo.z <= rr.hi.z &&
+           bmax.x >= 0.0f && bmax.y >= 0.0f && bmax.z >= 0.0f && bmin.x <= 8.0f &&
+           bmin.y <= 8.0f && bmin.z <= 8.0f;
+  // Size rule: cascade c's voxel is ro.w / 16 stack voxels; an object whose bounding radius is
+  // below sizeRule voxels of it is not listed there (cascade 0 lists every object).
+  if (c > 0u && inst.boundsMax.w < OBJ_FRAME.params.x * ro.w / 16.0f) rr.any = false;
+  return rr;
+}
+
+// Whether stack point p lies inside (or on) an object listed in the region that holds it (the
+// finest of cascades >= firstCascade): probes there are turned off instead of going black.
+bool objInsideAny(vec3 p, uint firstCascade) {
+  uint cascades = OBJ_FRAME.counts.y;
+  if (OBJ_FRAME.counts.x == 0u) return false;
+  for (uint c = firstCascade; c < cascades; ++c) {
+    if (!objInRegionGrid(c, p)) continue;
+    vec4 ro = OBJ_FRAME.regionOrigin[c];
+    ivec3 r = clamp(ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w)), ivec3(0), ivec3(7));
+    ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
+    for (uint k = 0u; k < region.count; ++k)
+      if (objInstanceDistance(OBJ_LIST(region.start + k), p) < 0.0f) return true;
+    return false;
+  }
+  return false;
+}
+
+// Whether an instance that moved this frame overlaps the region holding p or one of its 26
+// neighbours (cascade c's region grid, or the coarsest one for coarser probes): the probe there
+// must wake up (Majercik 2021 Sec. 5: probes near dynamic changes become vigilant).
+bool objMovedNear(vec3 p, uint c) {
+  uint cascades = OBJ_FRAME.counts.y;  // removals leave moved regions but no instance
+  if (cascades == 0u) return false;
+  uint k = min(c, cascades - 1u);
+  vec4 ro = OBJ_FRAME.regionOrigin[k];
+  ivec3 r = ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w));
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec3 q = r + ivec3(dx, dy, dz);
+        if (q.x < 0 || q.y < 0 || q.z < 0 || q.x > 7 || q.y > 7 || q.z > 7) continue;
+        if (OBJ_REGION(k * 512u + uint(q.x) + 8u * (uint(q.y) + 8u * uint(q.z))).moved != 0u)
+          return true;
+      }
+  return false;
+}

@@ -1,0 +1,109 @@
+// Moving objects on the GPU (issue 7; Godot SDFGI slides b, "Dynamic Objects"): the object-SDF
+// atlas, the instances and the macro-region object lists, shared by the region build passes
+// (object_regions.comp), the dynamic traversal (shaders/object_trace.glsl) and their C++
+// references (gi/object_scene_cpu.cpp). One definition; sizes static_asserted below.
+//
+// Spaces
+//  - Object space: the mesh's own coordinates (metres of the source file).
+//  - Grid space: sample (i,j,k) of an object's dense SDF grid sits at object-space position
+//    gridMin + voxel·(i,j,k). Distances are stored in grid voxels (distance / voxel).
+//  - Stack space: cascade-0 voxels relative to cascade 0's minimum corner, as every ray of the
+//    stack traversal (sdf_layout.h, CascadeTraceParams). Instance transforms are uploaded in
+//    this space each frame, so the GPU never sees world coordinates.
+//
+// Macro regions: each of the first regionCascades cascades is split into 8³ regions of 16³ of
+// its cells, measured from the cascade's current minimum corner. The lists are rebuilt from the
+// instances every frame, so they scroll with the cascade for free.
+#ifndef SDFSTREAM_OBJECT_LAYOUT_H
+#define SDFSTREAM_OBJECT_LAYOUT_H
+
+#include "shaders/shared/glsl_cpp.h"
+
+SDF_BEGIN_NAMESPACE
+
+SDF_CONST uint kRegionCells = 16;         // cascade cells per macro-region edge
+SDF_CONST uint kRegionsPerAxis = 8;       // 8 × 16 = 128 = kCascadeCells
+SDF_CONST uint kRegionsPerCascade = 512;  // 8³
+SDF_CONST uint kMaxRegionCascades = 4;    // cascades that may hold object lists
+
+// One mesh's local SDF in the atlas (ObjectMeta::meshes).
+struct ObjectMeshGpu {
+  uvec4 dimsOffset;  // xyz: samples per axis (>= 2); w: first sample in OBJ_SAMPLE's array
+  vec4 gridMin;      // xyz: object-space position of sample (0,0,0); w: voxel edge (object units)
+};
+
+// One instance (OBJ_INSTANCE). Affine maps as three rows (row · (p, 1)).
+struct ObjectInstanceGpu {
+  vec4 gridFromStack[3];  // stack position -> grid coordinates (samples) of its mesh
+  vec4 stackFromGrid[3];  // the inverse (hit positions and normals back to stack space)
+  vec4 boundsMin;         // xyz: stack-space AABB of the mesh's grid box; w: stepScale, a lower
+                          // bound of stack voxels per grid voxel along any direction (smallest
+                          // singular value of stackFromGrid's 3×3), so grid distance × stepScale
+                          // never overshoots the surface in stack space
+  vec4 boundsMax;         // xyz: AABB max; w: bounding radius in stack voxels (size rule)
+  uvec4 info;             // x: mesh index; y: kObjectFlag* bits; z: the user's object id; w: 0
+};
+
+SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) this frame
+
+// Per region and cascade (OBJ_REGION(c * 512 + r)).
+struct ObjectRegionGpu {
+  uint count;   // instances listed
+  uint start;   // first entry in OBJ_LIST
+  uint moved;   // nonzero: an instance that moved this frame overlaps it (old or new pose)
+  uint cursor;  // fill pass scratch
+};
+
+// Frame constants (ObjectMeta::frame, host-written each frame).
+struct ObjectFrameGpu {
+  uvec4 counts;  // x: instances; y: region cascades K (<= kMaxRegionCascades); z: list
+                 // capacity (entries); w: meshes
+  vec4 regionOrigin[kMaxRegionCascades];  // xyz: cascade c's min corner in stack space;
+                                          // w: its region edge in stack voxels (16 · 2^c)
+  vec4 params;  // x: size rule, the smallest bounding radius in voxels of cascade c an object
+                // needs to be listed in c > 0 (0 lists every object everywhere); y: hit epsilon
+                // in grid voxels; z: max sphere-tracing steps per object segment; w: 0
+};
+
+// Push constants of object_regions.comp (count / scan / fill share one layout).
+struct ObjectRegionPush {
+  uint phase;  // 0 count, 1 scan, 2 fill
+  uint instances;
+  uint cascades;
+  uint capacity;
+};
+
+// One ray's result of object_trace.comp (tests and the stress benchmark).
+struct ObjectTraceHit {
+  vec4 normalT;  // xyz unit stack-space normal, w = t (< 0: no object hit)
+  uint instance;
+  uint albedo;
+  uint emission;
+  uint steps;  // sphere-tracing steps over every instance tried
+  uint tried;  // instance segments traced
+  uint pad0;
+  uint pad1;
+  uint pad2;
+};
+
+struct ObjectTracePush {
+  uint rayCount;
+  uint mode;  // 0 region lists, 1 every instance (brute force)
+  uint pad0;
+  uint pad1;
+};
+
+SDF_END_NAMESPACE
+
+#ifdef __cplusplus
+static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 96);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectTracePush) == 16);
+static_assert(sdfstream::gpu_shared::kRegionCells * sdfstream::gpu_shared::kRegionsPerAxis == 128);
+#endif
+
+#endif
