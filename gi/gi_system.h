@@ -55,6 +55,7 @@ class GiSystem {
   // (instances->endFrame()). Both must outlive their use here.
   void setObjects(const ObjectLibrary* library, InstanceSet* instances);
   const ObjectScene& objects() const { return objects_; }
+  ObjectScene& objects() { return objects_; }
 
   // irradiance(x, n, view) of the current probes (cascade-0 voxels of the last frame's stack).
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);

@@ -23,6 +23,9 @@ struct ObjectSceneSettings {
   float sizeRule = 0.5f;
   float hitEpsilon = 0.05f;     // grid voxels: a sample below this is a hit
   std::uint32_t maxSteps = 96;  // sphere-tracing steps per instance segment
+  // Probe rays test every instance instead of walking the regions: the naive peer of the stress
+  // benchmark (the regions are still built, so their cost is measured either way).
+  bool naiveTraversal = false;
 };
 
 // Every mesh of the library, packed: ObjectMeshGpu records, distances, (albedo, emission) pairs.

@@ -50,6 +50,7 @@ class ObjectScene {
   std::uint32_t cascadeMask() const { return frame_.cascadeMask; }
   const ObjectFrameData& frame() const { return frame_; }
   const ObjectSceneSettings& settings() const { return settings_; }
+  void setNaiveTraversal(bool naive) { settings_.naiveTraversal = naive; }
 
   // The six buffers of object_bindings.glsl, in binding order.
   std::array<const gpu::Buffer*, 6> buffers() const {

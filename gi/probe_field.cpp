@@ -91,6 +91,8 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
                                       (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
+    if (objects_->settings().naiveTraversal)
+      lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjectsNaive;
   }
   // The previous update was waited for: the host-visible inputs are free to rewrite.
   std::memcpy(frame_.mapped(), &lastFrame_.constants, sizeof lastFrame_.constants);

@@ -633,7 +633,10 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
   // DDA+SDF search runs only up to the static hit, cached or fresh, so static work is never
   // repeated and the hit cache keeps holding static answers only.
   if (probeObjectsReach(f, c)) {
-    ObjectHit oh = objTraceRegions(o, dir, 0.0f, h.hit ? h.t0 : f.trace.w, c);
+    float tObjects = h.hit ? h.t0 : f.trace.w;
+    ObjectHit oh = (f.options.x & kProbeOptionObjectsNaive) != 0u
+                       ? objTraceAll(o, dir, 0.0f, tObjects)
+                       : objTraceRegions(o, dir, 0.0f, tObjects, c);
     PROBE_STAT_ADD(kProbeStatObjectRays, 1u);
     PROBE_STAT_ADD(kProbeStatObjectSteps, oh.steps);
     if (oh.t >= 0.0f) {
