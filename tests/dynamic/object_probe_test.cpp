@@ -36,6 +36,22 @@ struct PanelRoom {
       }};
 };
 
+// The GPU probe field (no CPU reference) with a random-object set whose ObjectScene is rebuilt
+// before every probe update, as GiSystem does.
+struct ObjectGi {
+  test::GiHarness harness;
+  test::RandomObjects objects;
+  ObjectScene scene;
+  ObjectGi(gpu::Context& ctx, const probe::ProbeFieldSettings& s)
+      : harness(ctx, s, 1, /*cpu=*/false), scene(ctx) {
+    harness.gpuField->setObjects(&scene);
+    harness.beforeProbes = [this](const CascadeStackImage& img) {
+      scene.update(objects.library, objects.instances, img);
+      objects.instances.endFrame();
+    };
+  }
+};
+
 probe::ProbeFieldSettings fastSettings() {
   probe::ProbeFieldSettings s;
   s.spacingBricks = 2;  // 9³ probes: the test is about objects, not probe density
@@ -71,14 +87,9 @@ bool allFinite(const std::vector<glm::vec4>& v) {
 TEST_F(ObjectProbeTest, OccluderDarkensTheFloorAndItsRemovalRestoresIt) {
   PanelRoom room;
   const CascadeStackImage& image = room.stack.image;
-  test::GiHarness h(ctx(), fastSettings(), 1, /*cpu=*/false);
-  test::RandomObjects objects;
-  ObjectScene scene(ctx());
-  h.gpuField->setObjects(&scene);
-  h.beforeProbes = [&](const CascadeStackImage& img) {
-    scene.update(objects.library, objects.instances, img);
-    objects.instances.endFrame();
-  };
+  ObjectGi gi(ctx(), fastSettings());
+  test::GiHarness& h = gi.harness;
+  test::RandomObjects& objects = gi.objects;
   const auto queries = floorReceivers();
   probe::ProbeFrameInputs in;
   in.cameraWorld = glm::dvec3(64.0, 60.0, 20.0);
@@ -142,14 +153,9 @@ TEST_F(ObjectProbeTest, OccluderDarkensTheFloorAndItsRemovalRestoresIt) {
 TEST_F(ObjectProbeTest, ProbesInsideAnObjectAreOffNotBlack) {
   PanelRoom room;
   const CascadeStackImage& image = room.stack.image;
-  test::GiHarness h(ctx(), fastSettings(), 1, false);
-  test::RandomObjects objects;
-  ObjectScene scene(ctx());
-  h.gpuField->setObjects(&scene);
-  h.beforeProbes = [&](const CascadeStackImage& img) {
-    scene.update(objects.library, objects.instances, img);
-    objects.instances.endFrame();
-  };
+  ObjectGi gi(ctx(), fastSettings());
+  test::GiHarness& h = gi.harness;
+  test::RandomObjects& objects = gi.objects;
   probe::ProbeFrameInputs in;
   in.cameraWorld = glm::dvec3(64.0, 60.0, 20.0);
   std::uint64_t frame = 0;
@@ -205,15 +211,10 @@ TEST_F(ObjectProbeTest, HitCacheBoundedSearchEqualsTracingEverythingAfresh) {
       s.hitCache = cache;
       s.fixedRotationCycle = true;  // the same ray directions with and without the cache
       s.states = false;             // the same probes updated every frame in both runs
-      test::GiHarness h(ctx(), s, 1, false);
-      test::RandomObjects objects;
-      ObjectScene scene(ctx());
-      h.gpuField->setObjects(&scene);
+      ObjectGi gi(ctx(), s);
+      test::GiHarness& h = gi.harness;
+      test::RandomObjects& objects = gi.objects;
       if (withObjects) objects.addRandom(image, 60, 14.0, 4);
-      h.beforeProbes = [&](const CascadeStackImage& img) {
-        scene.update(objects.library, objects.instances, img);
-        objects.instances.endFrame();
-      };
       probe::ProbeFrameInputs in;
       in.cameraWorld = glm::dvec3(64.0, 60.0, 20.0);
       for (std::uint64_t f = 0; f < 12; ++f) {
