@@ -11,10 +11,6 @@ namespace gs = gpu_shared;
 namespace {
 struct Box {
   glm::vec3 lo, hi;
-  bool overlaps(const Box& o) const {
-    return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y && lo.z <= o.hi.z &&
-           o.lo.z <= hi.z;
-  }
 };
 
 // The box plus its shadow: every corner swept `reach` stack voxels away from the light.
@@ -42,33 +38,49 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
   std::vector<std::uint32_t> pages;
   if (changed.empty() || stack.params.empty()) return pages;
   const float reach = 128.0f * stack.params.back().offsetScale.w * 1.7320508f;
-  std::vector<Box> swept;
+  // Pages are marked by the range each swept box covers, so the cost is the pages covered (and
+  // stops once a cascade is all marked), not pages × boxes: thousands of objects move at once.
+  const std::size_t cascades = stack.params.size();
+  std::vector<std::uint8_t> marked(cascades * gs::kCascadePageCount, 0);
+  std::vector<std::uint32_t> markedCount(cascades, 0);
+  auto mark = [&](const Box& b) {
+    for (std::uint32_t c = 0; c < cascades; ++c) {
+      if (markedCount[c] == gs::kCascadePageCount) continue;
+      const gs::CascadeTraceParams& p = stack.params[c];
+      const glm::vec3 origin(p.offsetScale);
+      const float pageEdge = 8.0f * p.offsetScale.w;
+      const glm::vec3 lo = (b.lo - origin) / pageEdge, hi = (b.hi - origin) / pageEdge;
+      if (hi.x < 0 || hi.y < 0 || hi.z < 0 || lo.x > 16 || lo.y > 16 || lo.z > 16) continue;
+      const glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(15));
+      const glm::ivec3 z = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(15));
+      for (int pz = a.z; pz <= z.z; ++pz)
+        for (int py = a.y; py <= z.y; ++py)
+          for (int px = a.x; px <= z.x; ++px) {
+            const std::uint32_t entry = ((std::uint32_t(px) + p.toroidal.x) & 15u) +
+                                        16u * (((std::uint32_t(py) + p.toroidal.y) & 15u) +
+                                               16u * ((std::uint32_t(pz) + p.toroidal.z) & 15u));
+            std::uint8_t& m = marked[c * gs::kCascadePageCount + entry];
+            if (!m) {
+              m = 1;
+              ++markedCount[c];
+            }
+          }
+    }
+  };
   for (const WorldBox& w : changed) {
     const Box b{stack.toStack(w.min), stack.toStack(w.max)};
-    swept.push_back(b);  // the object's own surfaces and what it covers
+    mark(b);  // the object's own surfaces and what it covers
     for (const gs::GpuLight& l : lights)
-      if (l.shape.w > 0.5f) swept.push_back(sweptAway(b, l, reach));
+      if (l.shape.w > 0.5f) mark(sweptAway(b, l, reach));
   }
-  for (std::uint32_t c = 0; c < stack.params.size(); ++c) {
-    const gs::CascadeTraceParams& p = stack.params[c];
-    const glm::vec3 origin(p.offsetScale);
-    const float pageEdge = 8.0f * p.offsetScale.w;
-    for (std::uint32_t pz = 0; pz < 16; ++pz)
-      for (std::uint32_t py = 0; py < 16; ++py)
-        for (std::uint32_t px = 0; px < 16; ++px) {
-          const std::uint32_t entry =
-              p.toroidal.w + ((px + p.toroidal.x) & 15u) +
-              16u * (((py + p.toroidal.y) & 15u) + 16u * ((pz + p.toroidal.z) & 15u));
-          if ((stack.pageTables[entry] & gs::kPageResidentBit) == 0u) continue;
-          const Box page{origin + glm::vec3(px, py, pz) * pageEdge,
-                         origin + glm::vec3(px + 1, py + 1, pz + 1) * pageEdge};
-          if (std::any_of(swept.begin(), swept.end(),
-                          [&](const Box& b) { return b.overlaps(page); }))
-            pages.push_back(entry);
-        }
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    const std::uint32_t base = stack.params[c].toroidal.w;
+    for (std::uint32_t e = 0; e < gs::kCascadePageCount; ++e)
+      if (marked[c * gs::kCascadePageCount + e] &&
+          (stack.pageTables[base + e] & gs::kPageResidentBit))
+        pages.push_back(base + e);
   }
-  std::sort(pages.begin(), pages.end());
-  return pages;
+  return pages;  // ascending: cascades in order, entries in order
 }
 
 }  // namespace sdfstream
