@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,7 +20,8 @@ using namespace glm;
 using namespace gpu_shared;
 
 // The GLSL functions become member functions; the macros read this object's pointers, which
-// point into one CascadeStackImage, the light list and the light cache of one call.
+// point into one CascadeStackImage, the light list and the light cache of one call. OBJ_FRAME
+// stays undefined: the reference has no moving objects (shade_primary.glsl).
 struct PrimaryShader {
   const std::uint32_t* pageTable = nullptr;
   const std::uint32_t* distanceAtlas = nullptr;
@@ -57,6 +59,19 @@ glm::uvec3 spread(std::uint32_t threads) {
   return {kRow, (threads + kRow - 1) / kRow, 1};
 }
 
+// pc.objectsMin/Max: the union of the instances' stack-space AABBs (ObjectInstanceGpu bounds),
+// grown by a hundredth of a voxel so rounding in the ray/box clip cannot cut a surface off.
+void setObjectBounds(gpu_shared::ShadePushConstants& pc, const ObjectScene* objects) {
+  if (!objects || !objects->hasInstances()) return;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const gpu_shared::ObjectInstanceGpu& i : objects->frame().instances) {
+    lo = glm::min(lo, glm::vec3(i.boundsMin));
+    hi = glm::max(hi, glm::vec3(i.boundsMax));
+  }
+  pc.objectsMin = glm::vec4(lo - 0.01f, 0.0f);
+  pc.objectsMax = glm::vec4(hi + 0.01f, 0.0f);
+}
+
 float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
@@ -74,6 +89,8 @@ gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& setting
   pc.params = glm::vec4(float(voxelSize0), settings.trace.hitEpsilon, settings.shadowEpsilon, 0.0f);
   pc.options = glm::uvec4(settings.direct, settings.shadowSteps, 0u, 0u);
   pc.sky = sky;
+  pc.objectsMin = glm::vec4(glm::vec3(1e30f), 0.0f);  // no objects
+  pc.objectsMax = glm::vec4(glm::vec3(-1e30f), 0.0f);
   return pc;
 }
 
@@ -104,15 +121,17 @@ std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stac
 PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
     : context_(context),
       pipeline_(context, gpu::ShaderId::shade_primary,
-                gpu::PipelineDesc{9, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+                gpu::PipelineDesc{15, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
               gpu::BufferKind::Upload),
-      noRadiance_(context, 4, gpu::BufferKind::DeviceLocal) {}
+      noRadiance_(context, 4, gpu::BufferKind::DeviceLocal),
+      noObjects_(context) {}
 
 std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
     const GpuStackScene& scene, const gpu::Buffer* lightRadiance,
     std::span<const gpu_shared::TraceRay> rays, std::span<const gpu_shared::GpuLight> lights,
-    const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0) {
+    const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0,
+    const ObjectScene* objects) {
   assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
   milliseconds_ = 0.0;
   if (rays.empty()) return {};
@@ -125,14 +144,18 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
   std::memcpy(rays_.mapped(), rays.data(), rayBytes);
   if (!lights.empty())
     std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
-  const gpu_shared::ShadePushConstants pc = shadePushConstants(
+  gpu_shared::ShadePushConstants pc = shadePushConstants(
       settings, rays.size(), lights.size(), scene.cascadeCount(), sky, voxelSize0);
+  if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
+  std::vector<const gpu::Buffer*> bindings = {
+      &rays_,         &shaded_, &scene.pageTables(), &scene.distance(), &scene.albedo(),
+      &scene.emission(), &scene.params(), &lights_, lightRadiance ? lightRadiance : &noRadiance_};
+  for (const gpu::Buffer* o :
+       objects && objects->active() ? objects->buffers() : noObjects_.buffers())
+    bindings.push_back(o);
   gpu::CommandBatch batch = context_.beginBatch();
-  batch.dispatch(
-      "shade_primary", pipeline_,
-      {&rays_, &shaded_, &scene.pageTables(), &scene.distance(), &scene.albedo(), &scene.emission(),
-       &scene.params(), &lights_, lightRadiance ? lightRadiance : &noRadiance_},
-      &pc, sizeof pc, shade_detail::spread(pc.counts.x));
+  batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
+                 shade_detail::spread(pc.counts.x));
   batch.submitAndWait();
   for (const auto& t : batch.timings()) milliseconds_ += t.milliseconds;
   std::vector<gpu_shared::ShadedHit> out(rays.size());
@@ -210,6 +233,7 @@ HdrFrame composeFrame(std::span<const gpu_shared::ShadedHit> shaded, int width, 
   for (std::size_t i = 0; i < shaded.size(); ++i) {
     f.direct[i] = glm::vec3(shaded[i].direct);
     if (shaded[i].flags & gpu_shared::kHitFlagHit) ++f.hits;
+    if (shaded[i].flags & gpu_shared::kShadeFlagObject) ++f.objectHits;
   }
   constexpr float kInvPi = 0.3183098861837907f;
   for (std::size_t q = 0; q < indirectIrradiance.size(); ++q) {
@@ -269,6 +293,21 @@ GiRenderer::~GiRenderer() = default;
 
 const GpuStackScene& GiRenderer::scene() const { return gi_ ? gi_->scene() : *scene_; }
 
+const ObjectScene* GiRenderer::objectScene() const {
+  if (!objectLibrary_) return nullptr;
+  return gi_ ? &gi_->objects() : objects_.get();
+}
+
+void GiRenderer::setObjects(const ObjectLibrary* library, InstanceSet* instances) {
+  objectLibrary_ = library;
+  instances_ = library ? instances : nullptr;
+  if (gi_) {
+    gi_->setObjects(library, instances_);
+  } else if (library && !objects_) {
+    objects_ = std::make_unique<ObjectScene>(context_, options_.settings.objects);
+  }
+}
+
 const gpu::Buffer* GiRenderer::lightRadiance() const {
   if (gi_) return &gi_->lightCache().radianceBuffer();
   return light_ ? &light_->radianceBuffer() : nullptr;
@@ -279,12 +318,32 @@ std::size_t GiRenderer::probeDeviceBytes() const { return gi_ ? gi_->probes().de
 GiFrameStats GiRenderer::updateDirectOnly(const CascadeStackImage& image,
                                           const SceneLights& lights) {
   GiFrameStats stats;
+  // Objects as GiSystem::run handles them: rebuild for this stack, relight the light cache's
+  // pages their old and new poses shadow, consume the change record.
+  std::vector<std::uint32_t> shadowed;
+  const auto gpuLights = toGpu(lights.lights, image);
+  if (instances_) {
+    objects_->update(*objectLibrary_, *instances_, image);
+    for (const auto& t : objects_->lastTimings()) stats.objectMilliseconds += t.milliseconds;
+    stats.objectInstances = std::uint32_t(instances_->size());
+    if (light_) {
+      shadowed = objectShadowPages(image, instances_->changedBoxes(*objectLibrary_), gpuLights);
+      stats.objectPagesRelit = std::uint32_t(shadowed.size());
+    }
+    instances_->endFrame();
+  }
   if (light_) {
     const bool lightsChanged = lights.version != lightsVersion_;
     lightsVersion_ = lights.version;
-    const auto dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
-    light_->update(*scene_, toGpu(lights.lights, image), toGpu(lights.sky), dirty,
-                   image.voxelSize0);
+    std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
+    if (!shadowed.empty()) {
+      std::vector<std::uint32_t> merged;
+      std::set_union(dirty.begin(), dirty.end(), shadowed.begin(), shadowed.end(),
+                     std::back_inserter(merged));
+      dirty = std::move(merged);
+    }
+    light_->update(*scene_, gpuLights, toGpu(lights.sky), dirty, image.voxelSize0,
+                   instances_ ? objects_.get() : nullptr);
     stats.pagesRelit = light_->pagesRelitLastUpdate();
     for (const auto& t : light_->lastTimings()) stats.lightMilliseconds += t.milliseconds;
     previous_ = std::make_unique<CascadeStackImage>(image);
@@ -314,7 +373,7 @@ GiFrameStats GiRenderer::update(const CascadeStack& stack, std::span<const std::
     times_.probePasses = gi_->probes().lastTimings();
   } else {
     scene_->sync(stack, dirty);
-    times_.gi = light_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
+    times_.gi = light_ || instances_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
   }
   return times_.gi;
 }
@@ -326,7 +385,7 @@ ShadedView GiRenderer::shade(const Camera& camera, int width, int height,
   v.height = height;
   v.rays = cameraRays(camera, width, height, image);
   v.shaded = shade_.run(scene(), lightRadiance(), v.rays, toGpu(lights.lights, image),
-                        toGpu(lights.sky), options_.shading, image.voxelSize0);
+                        toGpu(lights.sky), options_.shading, image.voxelSize0, objectScene());
   times_.shadeMilliseconds = shade_.lastMilliseconds();
   v.queries = probeQueries(v.shaded, v.rays, v.pixels);
   return v;

@@ -5,6 +5,12 @@
 // every hit pixel. The result is linear radiance per pixel, kept as its direct and indirect
 // parts so a reader can see the indirect light alone; demo/frame_image.h tone-maps it.
 //
+// Moving objects (issue 7, GiRenderer::setObjects): the GPU pass also searches the objects in
+// front of each static hit and shades the nearer object hit (its direct light, then its indirect
+// light from the same probe query at the object's surface), and objects block every shadow ray
+// (hard shadows), so they darken the direct light of what lies under them; the probes see them
+// too, which darkens the indirect light there (their indirect shadow).
+//
 // Used by `sdfstream render`, `demo` (one cascade built from the world, tools/view_renderer.h)
 // and `fly` (the streaming stack). Thread safety: as for the gpu::Context.
 #pragma once
@@ -21,6 +27,7 @@
 #include "gi/gi_system.h"
 #include "gi/gpu_stack_scene.h"
 #include "gi/light_cache.h"
+#include "gi/object_scene.h"
 #include "gi/scene_lights.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
@@ -48,7 +55,7 @@ gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& setting
 // CPU reference of shade_primary.comp (same GLSL compiled as C++, TBB over rays). Rays in
 // cascade-0 voxels of `stack`; lights from toGpu(lights, stack). `lightRadiance` (one RGB9E5 per
 // atlas material voxel, LightCacheCpu::radiance()) is read only with kShadeDirectCache and may be
-// empty otherwise.
+// empty otherwise. No moving objects: it equals the GPU pass run without any.
 std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stack,
                                                    std::span<const gpu_shared::TraceRay> rays,
                                                    std::span<const gpu_shared::GpuLight> lights,
@@ -61,19 +68,23 @@ class PrimaryShadePass {
  public:
   explicit PrimaryShadePass(gpu::Context& context);
   // Traces and shades `rays` against `scene` (synced to the stack the rays refer to); blocking.
-  // lightRadiance: the light cache atlas (read with kShadeDirectCache), or nullptr.
+  // lightRadiance: the light cache atlas (read with kShadeDirectCache), or nullptr. objects: the
+  // moving objects, updated for the same stack this frame (ObjectScene::update), or nullptr;
+  // an inactive scene counts as none.
   std::vector<gpu_shared::ShadedHit> run(const GpuStackScene& scene,
                                          const gpu::Buffer* lightRadiance,
                                          std::span<const gpu_shared::TraceRay> rays,
                                          std::span<const gpu_shared::GpuLight> lights,
                                          const gpu_shared::GpuSky& sky,
-                                         const ShadingSettings& settings, double voxelSize0);
+                                         const ShadingSettings& settings, double voxelSize0,
+                                         const ObjectScene* objects = nullptr);
   double lastMilliseconds() const { return milliseconds_; }
 
  private:
   gpu::Context& context_;
   gpu::ComputePipeline pipeline_;
   gpu::Buffer rays_, shaded_, lights_, noRadiance_;
+  NoObjectsBindings noObjects_;  // bound at 9-14 when there are no objects
   double milliseconds_ = 0.0;
 };
 
@@ -84,6 +95,7 @@ struct HdrFrame {
   std::vector<glm::vec3> direct;    // hits: emission + albedo/π · E_direct; misses: the sky
   std::vector<glm::vec3> indirect;  // hits: albedo/π · E_indirect; misses: 0
   std::size_t hits = 0;
+  std::size_t objectHits = 0;  // hits on a moving object (kShadeFlagObject), part of `hits`
   std::vector<glm::vec3> final() const;
 };
 
@@ -95,7 +107,8 @@ std::vector<gpu_shared::TraceRay> cameraRays(const Camera& camera, int width, in
                                              const CascadeStackImage& stack);
 
 // Probe queries for the hit pixels of `shaded` (rays in cascade-0 voxels): position = the hit
-// point, normal = the SDF normal, view = -ray direction. pixels[i] = the pixel of query i.
+// point, normal = the SDF normal (a moving object's: its own hit point and normal, which
+// ShadedHit carries the same way), view = -ray direction. pixels[i] = the pixel of query i.
 std::vector<gpu_shared::ProbeQuery> probeQueries(std::span<const gpu_shared::ShadedHit> shaded,
                                                  std::span<const gpu_shared::TraceRay> rays,
                                                  std::vector<std::uint32_t>& pixels);
@@ -119,7 +132,7 @@ struct GiRendererOptions {
 };
 
 struct GiFrameTimes {
-  GiFrameStats gi;                           // light cache and probe passes (zero with GI off)
+  GiFrameStats gi;  // light cache, probe and object passes (GI off: light cache and objects only)
   std::vector<gpu::PassTiming> probePasses;  // the last update's probe passes, one by one
   double shadeMilliseconds = 0.0;            // shade_primary pass (trace + direct light)
   double sampleMilliseconds = 0.0;           // probe_sample pass (irradiance queries)
@@ -140,6 +153,17 @@ class GiRenderer {
  public:
   GiRenderer(gpu::Context& context, const GiRendererOptions& options, std::uint32_t cascades);
   ~GiRenderer();
+
+  // Moving objects from the next update() on, or none (library nullptr, the default). Both must
+  // outlive their use. Each update() then rebuilds the objects' GPU data for its stack, and
+  // consumes the set's change record (instances->endFrame()): move the instances before it.
+  // GI on: forwarded to GiSystem::setObjects (probes, light cache and primary shading see the
+  // objects). GI off: the renderer keeps its own ObjectScene, so the primary pass still shows
+  // the objects and their hard shadows in the per-pixel direct light, and with kShadeDirectCache
+  // the light cache relights the pages they shadow, as GiSystem does. The CPU reference
+  // (shadePrimaryCpu, --cpu) has no objects.
+  void setObjects(const ObjectLibrary* library, InstanceSet* instances);
+  bool hasObjects() const { return objectLibrary_ != nullptr; }
 
   // One frame: sync the stack (whole image / streamed dirty slots), relight, update probes.
   GiFrameStats update(const CascadeStackImage& image, const SceneLights& lights,
@@ -169,6 +193,7 @@ class GiRenderer {
  private:
   const GpuStackScene& scene() const;
   const gpu::Buffer* lightRadiance() const;
+  const ObjectScene* objectScene() const;
   GiFrameStats updateDirectOnly(const CascadeStackImage& image, const SceneLights& lights);
 
   gpu::Context& context_;
@@ -177,6 +202,9 @@ class GiRenderer {
   std::unique_ptr<GpuStackScene> scene_;         // GI off
   std::unique_ptr<LightCache> light_;            // GI off with kShadeDirectCache
   std::unique_ptr<CascadeStackImage> previous_;  // GI off: for the light cache's dirty pages
+  std::unique_ptr<ObjectScene> objects_;         // GI off with objects
+  const ObjectLibrary* objectLibrary_ = nullptr;
+  InstanceSet* instances_ = nullptr;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   PrimaryShadePass shade_;
   GiFrameTimes times_;

@@ -13,22 +13,28 @@ struct Box {
   glm::vec3 lo, hi;
 };
 
-// The box plus its shadow: every corner swept `reach` stack voxels away from the light.
-Box sweptAway(const Box& b, const gs::GpuLight& light, float reach) {
-  Box out = b;
+// The part of the box's shadow between distances s0 and s1 from it: every corner moved s0 and s1
+// stack voxels away from the light, as one box. Marking the shadow piece by piece follows a
+// slanted shadow closely, where one box around the whole sweep would cover a quarter of a cascade.
+Box shadowSegment(const Box& b, const gs::GpuLight& light, float s0, float s1) {
+  Box out{glm::vec3(1e30f), glm::vec3(-1e30f)};
   const bool sun = std::uint32_t(light.positionType.w + 0.5f) == gs::kLightSun;
   const glm::vec3 lightPos(light.positionType);
   for (int corner = 0; corner < 8; ++corner) {
     const glm::vec3 p((corner & 1) ? b.hi.x : b.lo.x, (corner & 2) ? b.hi.y : b.lo.y,
                       (corner & 4) ? b.hi.z : b.lo.z);
-    glm::vec3 away = sun ? -glm::normalize(glm::vec3(light.direction)) : p - lightPos;
-    const float len = glm::length(away);
-    if (len < 1e-6f) return Box{glm::vec3(-1e30f), glm::vec3(1e30f)};  // light inside: all
-    const glm::vec3 q = p + away / len * reach;
-    out.lo = glm::min(out.lo, q);
-    out.hi = glm::max(out.hi, q);
+    const glm::vec3 away = sun ? -glm::normalize(glm::vec3(light.direction)) : p - lightPos;
+    const glm::vec3 u = away / std::max(glm::length(away), 1e-6f);
+    for (float sv : {s0, s1}) {
+      out.lo = glm::min(out.lo, p + u * sv);
+      out.hi = glm::max(out.hi, p + u * sv);
+    }
   }
   return out;
+}
+
+bool contains(const Box& b, glm::vec3 p) {
+  return glm::all(glm::greaterThanEqual(p, b.lo)) && glm::all(glm::lessThanEqual(p, b.hi));
 }
 }  // namespace
 
@@ -70,8 +76,20 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
   for (const WorldBox& w : changed) {
     const Box b{stack.toStack(w.min), stack.toStack(w.max)};
     mark(b);  // the object's own surfaces and what it covers
-    for (const gs::GpuLight& l : lights)
-      if (l.shape.w > 0.5f) mark(sweptAway(b, l, reach));
+    for (const gs::GpuLight& l : lights) {
+      if (l.shape.w <= 0.5f) continue;
+      const bool sun = std::uint32_t(l.positionType.w + 0.5f) == gs::kLightSun;
+      if (!sun && contains(b, glm::vec3(l.positionType))) {  // a light inside: anything goes
+        mark(Box{glm::vec3(-1e30f), glm::vec3(1e30f)});
+        continue;
+      }
+      // Segments a page long near the object, growing by a quarter of their distance after.
+      for (float s0 = 0.0f; s0 < reach;) {
+        const float s1 = std::min(reach, s0 + std::max(8.0f, 0.25f * s0));
+        mark(shadowSegment(b, l, s0, s1));
+        s0 = s1;
+      }
+    }
   }
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const std::uint32_t base = stack.params[c].toroidal.w;

@@ -2,7 +2,8 @@
 // Primary-hit shading of the demo frames (demo/gi_shading.h; math in shade_primary.glsl, shared
 // with the CPU reference): one invocation per camera ray, spread over rows of 64 x 16384 threads.
 // Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 distance atlas, 4 albedo atlas,
-// 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance.
+// 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance,
+// 9-14 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -31,7 +32,10 @@ layout(push_constant) uniform Push { ShadePushConstants pc; };
 #define SDF_CASCADE(c) cascades[c]
 #define LIGHT_AT(i) lights[i]
 #define LIGHT_RADIANCE(m) lightRadiance[m]
+#define OBJ_BINDING_BASE 9
+#include "shaders/object_bindings.glsl"
 #include "shaders/sdf_trace.glsl"
+#include "shaders/object_trace.glsl"
 #include "shaders/light_math.glsl"
 #include "shaders/shade_primary.glsl"
 

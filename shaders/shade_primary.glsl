@@ -12,6 +12,14 @@
 //   LIGHT_RADIANCE(m)  -> uint RGB9E5 light-cache radiance of material voxel m (read only when
 //                         options.x == kShadeDirectCache)
 // defined.
+//
+// Moving objects (issue 7): when OBJ_FRAME is defined (object_bindings.glsl, then
+// object_trace.glsl before light_math.glsl: the GLSL pass), each primary ray also searches the
+// objects, but only up to its static hit (Godot SDFGI slides b, "Combining with Static
+// Lighting": the static answer bounds the dynamic search), and every shadow ray, static hit or
+// object hit, is also blocked by the objects (hard shadows, as the light cache's). The CPU
+// reference (demo/gi_shading.cpp) leaves OBJ_FRAME undefined: it has no objects, and the GPU
+// pass with zero instances computes exactly what it does.
 #if !defined(LIGHT_AT) || !defined(LIGHT_RADIANCE)
 #error "shade_primary.glsl needs LIGHT_AT(i), LIGHT_RADIANCE(m) and light_math.glsl included first"
 #endif
@@ -34,6 +42,19 @@ float shadeSoftShadowStack(vec3 origin0, vec3 dir, float tMax0, uint maxSteps, f
                                 cascadeCount, k);
 }
 
+#ifdef OBJ_FRAME
+// objTraceRegions over the part of [tMin, tMax] inside the objects' AABB (pc.objectsMin/Max):
+// every instance lies inside it, so the answer is the same, without walking the empty regions
+// outside it.
+ObjectHit shadeTraceObjects(vec3 o, vec3 d, float tMin, float tMax, ShadePushConstants pc) {
+  vec2 span = objBoxClip(o, objSafeInverse(d), vec3(pc.objectsMin), vec3(pc.objectsMax));
+  float t0 = max(tMin, span.x);
+  float t1 = min(tMax, span.y);
+  if (t0 > t1) return objMiss();
+  return objTraceRegions(o, d, t0, t1, 0u);
+}
+#endif
+
 // lightIrradiance (light_math.glsl: cosine, 1/d², range window, spot cone) at hit point p0 of
 // cascade hitCascade, times the visibility of the shadow ray above.
 vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePushConstants pc) {
@@ -54,15 +75,81 @@ vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePus
     if (tMax0 <= 0.0f) return vec3(0.0f);
     dir = delta / tMax0;
   }
-  return e * shadeSoftShadowStack(origin, dir, tMax0, pc.options.y, pc.params.z, hitCascade,
-                                  pc.counts.z, l.shape.z);
+  float visibility = shadeSoftShadowStack(origin, dir, tMax0, pc.options.y, pc.params.z,
+                                          hitCascade, pc.counts.z, l.shape.z);
+#ifdef OBJ_FRAME
+  // Objects cast hard shadows on the static scene (the light cache's rule, light_math.glsl).
+  if (visibility > 0.0f && shadeTraceObjects(origin, dir, 0.0f, tMax0, pc).t >= 0.0f)
+    visibility = 0.0f;
+#endif
+  return e * visibility;
 }
+
+#ifdef OBJ_FRAME
+// How far (cascade-0 voxels) an object hit's shadow ray starts off the object along its normal.
+// The object's own SDF is trilinear in its grid and hits below 0.05 grid voxels: a start closer
+// than a grid voxel or two could read the surface it leaves as its occluder (speckled
+// self-shadowing). One stack voxel is a few grid voxels at the demo's object sizes and keeps
+// contact shadows between objects and the ground within a voxel.
+SDF_CONST float kShadeObjectShadowOffset = 1.0f;
+
+// Direct light at point p0 on a moving object (stack space, on its surface) with unit normal n:
+// lightIrradiance unshadowed (cosine, 1/d², range, cone), times the static soft-shadow walk from
+// the finest cascade holding the shadow ray's start, times 0 when an object (itself included,
+// beyond the offset) blocks the ray.
+vec3 shadeObjectLightIrradiance(GpuLight l, vec3 p0, vec3 n, ShadePushConstants pc) {
+  GpuLight unshadowed = l;
+  unshadowed.shape.w = 0.0f;
+  vec3 e = lightIrradiance(unshadowed, p0, n, pc.params.x, 0u, pc.params.z, pc.counts.z);
+  if (!(max(e.x, max(e.y, e.z)) > 0.0f) || l.shape.w <= 0.5f) return e;
+  SDF_PRECISE vec3 origin = p0 + n * kShadeObjectShadowOffset;
+  vec3 dir = normalize(vec3(l.direction));
+  float tMax0 = 1e9f;  // the sun: until the ray leaves the stack
+  if (uint(l.positionType.w + 0.5f) != kLightSun) {
+    vec3 delta = vec3(l.positionType) - origin;
+    tMax0 = length(delta);
+    if (tMax0 <= 0.0f) return vec3(0.0f);
+    dir = delta / tMax0;
+  }
+  float visibility = sdfSoftShadowStack(origin, dir, 0.0f, tMax0, pc.options.y, pc.params.z,
+                                        pc.counts.z, l.shape.z);
+  if (visibility > 0.0f && shadeTraceObjects(origin, dir, 0.0f, tMax0, pc).t >= 0.0f)
+    visibility = 0.0f;
+  return e * visibility;
+}
+
+// The shaded hit of a primary ray whose nearest hit is object hit oh: emission + albedo/π ·
+// E_direct, lit per pixel whatever options.x says (objects have no light-cache voxels).
+ShadedHit shadeObjectHit(vec3 origin, vec3 dir, ObjectHit oh, uint staticSteps,
+                         ShadePushConstants pc) {
+  ShadedHit h;
+  h.steps = staticSteps + oh.steps;
+  h.flags = kHitFlagHit | kShadeFlagObject;
+  h.normalT = vec4(oh.normal, oh.t);
+  h.albedo = oh.albedo;
+  h.emission = oh.emission;
+  SDF_PRECISE vec3 p0 = origin + dir * oh.t;
+  vec3 irradiance = vec3(0.0f);
+  for (uint i = 0u; i < pc.counts.y; ++i)
+    irradiance += shadeObjectLightIrradiance(LIGHT_AT(i), p0, oh.normal, pc);
+  vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(oh.albedo)));
+  h.direct = vec4(unpackRgb9e5(oh.emission) + albedo * irradiance * kLightInvPi, 0.0f);
+  return h;
+}
+#endif  // OBJ_FRAME
 
 ShadedHit shadePrimary(TraceRay ray, ShadePushConstants pc) {
   vec3 origin = vec3(ray.originTMin);
   vec3 dir = vec3(ray.dirTMax);
   SdfStackResult s = sdfTraceStack(origin, dir, ray.originTMin.w, ray.dirTMax.w, pc.counts.w,
                                    pc.params.y, pc.counts.z);
+#ifdef OBJ_FRAME
+  // Objects only in front of the static hit (or along the whole ray on a miss); regions from
+  // cascade 0, as a camera ray sees every cascade's detail.
+  ObjectHit oh = shadeTraceObjects(origin, dir, ray.originTMin.w,
+                                   s.r.hit ? s.t0 : ray.dirTMax.w, pc);
+  if (oh.t >= 0.0f) return shadeObjectHit(origin, dir, oh, s.steps, pc);
+#endif
   ShadedHit h;
   h.steps = s.steps;
   h.flags = (s.r.hit ? kHitFlagHit : 0u) | (s.r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |

@@ -16,5 +16,6 @@ int runBench(int argc, char** argv);          // tools/cmd_bench.cpp
 int runBenchScroll(int argc, char** argv);    // tools/bench_scroll.cpp (argv[2] == "scroll")
 int runBenchStream(int argc, char** argv);    // tools/bench_stream.cpp (argv[2] == "stream")
 int runBenchGi(int argc, char** argv);        // tools/bench_gi.cpp (argv[2] == "gi")
+int runStress(int argc, char** argv);         // tools/cmd_stress.cpp
 
 }  // namespace sdfstream::cli

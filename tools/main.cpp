@@ -22,6 +22,8 @@ const char* kUsage =
     "  generate-world -o LAYOUT.json   write the large built-in world's layout\n"
     "  bench import|...   benchmarks (outputs under out/bench)\n"
     "  fly WORLD -o DIR [--path FILE] [--frames N]   stream a fly-through; frames + metrics\n"
+    "  stress WORLD [--objects 0,10,100,1000,10000]   moving-object stress benchmark: GPU time\n"
+    "                 vs object count, regions vs naive vs static-only (outputs under out/stress)\n"
     "  demo [-o DIR]  import the built-in scene, render views, write PNGs and a report\n";
 }
 
@@ -41,6 +43,7 @@ int main(int argc, char** argv) {
     if (command == "fly") return sdfstream::cli::runFly(argc, argv);
     if (command == "generate-world") return sdfstream::cli::runGenerateWorld(argc, argv);
     if (command == "bench") return sdfstream::cli::runBench(argc, argv);
+    if (command == "stress") return sdfstream::cli::runStress(argc, argv);
     std::fprintf(stderr, "sdfstream: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const sdfstream::InputError& e) {

@@ -131,6 +131,14 @@ ViewRenderer::ViewRenderer(const World& world, gpu::Context* context, const Rend
 
 ViewRenderer::~ViewRenderer() = default;
 
+void ViewRenderer::setObjects(DemoObjects* objects, int giFrames) {
+  objects_ = objects;
+  objectFrame_ = 0;
+  objectTarget_ = objects ? framesOnWindow_ + giFrames : 0;
+  if (gpu_) gpu_->setObjects(objects ? &objects->library : nullptr,
+                             objects ? &objects->instances : nullptr);
+}
+
 ViewResult ViewRenderer::render(const Camera& camera, int width, int height) {
   const glm::ivec3 origin = cascadeOriginAround(world_, camera.target);
   if (!cascade_ || cascade_->originBrick != origin) {
@@ -163,10 +171,14 @@ ViewResult ViewRenderer::render(const Camera& camera, int width, int height) {
     inputs.cameraWorld = camera.position;
     inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
     auto step = [&] {
+      if (objects_) objects_->apply(objectFrame_++ / 30.0);
       gpu_->update(*stack_, lights, inputs, frame_++);
       ++framesOnWindow_;
       const GiFrameTimes& t = gpu_->lastTimes();
       r.lightMilliseconds += t.gi.lightMilliseconds;
+      r.objectMilliseconds += t.gi.objectMilliseconds;
+      r.objectRays = t.gi.probes.objectRays;
+      r.objectRayHits = t.gi.probes.objectHits;
       if (gpu_->giEnabled()) {
         r.probeMilliseconds.push_back(t.gi.probeMilliseconds);
         r.probePasses = t.probePasses;
@@ -175,23 +187,30 @@ ViewResult ViewRenderer::render(const Camera& camera, int width, int height) {
     // The first frame uploads the stack, which the shading pass reads.
     if (framesOnWindow_ == 0) step();
     ShadedView view = gpu_->shade(camera, width, height, *stack_, lights);
-    r.shadeMilliseconds = gpu_->lastTimes().shadeMilliseconds;
     r.rays = view.rays.size();
+    bool moved = false;  // objects moved after the view was shaded
     if (gpu_->giEnabled()) {
       // A fixed subset of this view's receivers tracks convergence frame by frame.
       std::vector<gpu_shared::ProbeQuery> subset;
       for (std::size_t i = 0; i < view.queries.size(); i += 61) subset.push_back(view.queries[i]);
       if (!r.probeMilliseconds.empty()) r.convergence.push_back(gpu_->meanIrradiance(subset));
-      while (framesOnWindow_ < options_.giFrames) {
+      while (framesOnWindow_ < std::max(options_.giFrames, objectTarget_)) {
         step();
+        moved = moved || objects_;
         r.convergence.push_back(gpu_->meanIrradiance(subset));
       }
       r.framesToConverge = framesToConverge(r.convergence);
+    } else if (objects_) {
+      while (framesOnWindow_ < objectTarget_) step(), moved = true;
     }
+    // Shading does not depend on the probes, but it does on where the objects are.
+    if (moved) view = gpu_->shade(camera, width, height, *stack_, lights);
+    r.shadeMilliseconds = gpu_->lastTimes().shadeMilliseconds;
     r.frame = gpu_->finish(view);
     r.sampleMilliseconds = gpu_->lastTimes().sampleMilliseconds;
   }
   r.hits = r.frame.hits;
+  r.objectHits = r.frame.objectHits;
   const float ev = options_.exposureStops;
   r.image = toneMap(r.frame.final(), width, height, ev, &r.nonFinite);
   r.directImage = toneMap(r.frame.direct, width, height, ev);

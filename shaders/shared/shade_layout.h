@@ -17,7 +17,14 @@ SDF_BEGIN_NAMESPACE
 SDF_CONST uint kShadeDirectPixel = 0u;  // lightIrradiance (light_math.glsl) at the hit point
                                         // itself: SDF soft shadows per pixel
 SDF_CONST uint kShadeDirectCache = 1u;  // the static light cache's RGB9E5 value of the hit's
-                                        // material voxel (one value per voxel, blockier)
+                                        // material voxel (one value per voxel, blockier); moving
+                                        // objects have no cache entry and are always lit per pixel
+
+// ShadedHit.flags bit beside sdf_layout.h's kHitFlag* (bits 0-3) and the hit cascade (bits 8-11):
+// the primary hit is a moving object (shaders/object_trace.glsl), nearer than the static hit.
+// normalT then holds the object's normal and hit distance, albedo/emission its material sample,
+// and the cascade bits 0.
+SDF_CONST uint kShadeFlagObject = 0x10000u;
 
 struct ShadePushConstants {
   uvec4 counts;   // x: rays; y: lights (<= kMaxLights); z: cascades; w: trace max steps (0..15)
@@ -25,6 +32,12 @@ struct ShadePushConstants {
                   // z: shadow hit epsilon (voxels); w unused                        (16..31)
   uvec4 options;  // x: kShadeDirect*; y: shadow max steps; zw unused                (32..47)
   GpuSky sky;     // seen by rays that miss                                          (48..79)
+  // Stack-space AABB of every moving object's bounds (ObjectInstanceGpu boundsMin/Max), padded;
+  // min > max when there are none. Rays, primary or shadow, search the objects only over their
+  // stretch inside it: most shadow rays leave the objects' height band within a few metres, and
+  // the region walk they skip costs as much as the static shadow walk. w unused.
+  vec4 objectsMin;  //                                                                (80..95)
+  vec4 objectsMax;  //                                                               (96..111)
 };
 
 // One pixel's primary hit and its direct radiance. t < 0 (normalT.w) means a miss.
@@ -34,16 +47,19 @@ struct ShadedHit {
                   // miss: sky radiance along the ray. w: 0                          (16..31)
   uint albedo;    // RGBA8 sRGB-encoded albedo of the hit material voxel (0 on a miss) (32..35)
   uint emission;  // RGB9E5 linear emission of the hit material voxel               (36..39)
-  uint steps;     // sphere-tracing iterations of the primary ray                   (40..43)
-  uint flags;     // kHitFlag* bits and the hit cascade (sdf_layout.h)              (44..47)
+  uint steps;     // sphere-tracing iterations of the primary ray (static + object)  (40..43)
+  uint flags;     // kHitFlag* bits, the hit cascade (sdf_layout.h), kShadeFlagObject (44..47)
 };
 
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sdfstream::gpu_shared::ShadePushConstants) == 80);
+// 112 bytes: within the 128 bytes of push constants every Vulkan device offers.
+static_assert(sizeof(sdfstream::gpu_shared::ShadePushConstants) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ShadePushConstants, sky) == 48);
+static_assert(offsetof(sdfstream::gpu_shared::ShadePushConstants, objectsMin) == 80);
+static_assert(offsetof(sdfstream::gpu_shared::ShadePushConstants, objectsMax) == 96);
 static_assert(sizeof(sdfstream::gpu_shared::ShadedHit) == 48);
 static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, albedo) == 32);
 static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, flags) == 44);

@@ -10,71 +10,25 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "gi/light_cache.h"
+#include "tests/demo_gi/demo_gi_scene.h"
 #include "tests/gpu/gpu_test_fixture.h"
-#include "tests/support/test_data.h"
-#include "world/mesh_to_sdf.h"
-#include "world/scene_layout.h"
 
 namespace sdfstream {
 namespace {
 
 class DemoGiTest : public test::GpuTest {};
 
-// Metres. The floor's top is y = 0; the sun comes from +x and slightly from +z, so the pillar's
-// shadow falls towards -x and the red wall's inner face (+x) is lit.
-World testWorld() {
-  const auto dir = test::scratchDir("demo-gi");
-  std::ofstream(dir / "layout.json") << R"({"boxes": [
-    {"min": [-2.0, -0.2, -2.0], "max": [2.0, 0.0, 2.0], "albedo": [0.8, 0.8, 0.8]},
-    {"min": [-2.0, 0.0, -2.0], "max": [-1.8, 2.0, 2.0], "albedo": [0.85, 0.08, 0.06]},
-    {"min": [0.8, 0.0, -0.25], "max": [1.2, 1.4, 0.25], "albedo": [0.8, 0.8, 0.8]}]})";
-  const TriangleScene scene = loadLayout(dir / "layout.json");
-  return meshToWorld(scene, 0.0, ImportLimits{});
-}
+using test::FloorRegion;
+using test::floorMean;
+using test::lum;
 
-const glm::vec3 kSunTravel(-0.5f, -1.0f, -0.1f);
-
-SceneLights testLights() {
-  return defaultSceneLights(kSunTravel, 3.0f, glm::vec3(0.0f), glm::vec3(0.0f));
-}
-
-Camera testCamera() {
-  Camera c;
-  c.position = glm::dvec3(0.3, 3.2, 3.6);
-  c.target = glm::dvec3(0.0, 0.0, 0.0);
-  c.fovYDegrees = 55.0;
-  return c;
-}
-
-// Mean linear radiance of the pixels whose primary hit is on the floor's top (normal up) inside
-// the world-space rectangle [x0, x1] × [z0, z1].
-struct FloorRegion {
-  float x0, x1, z0, z1;
-};
-glm::dvec3 floorMean(const ShadedView& view, const CascadeStackImage& image,
-                     const std::vector<glm::vec3>& radiance, FloorRegion r, int* count) {
-  glm::dvec3 sum(0.0);
-  int n = 0;
-  for (std::size_t i = 0; i < view.shaded.size(); ++i) {
-    const gpu_shared::ShadedHit& h = view.shaded[i];
-    if (!(h.flags & gpu_shared::kHitFlagHit) || h.normalT.y < 0.9f) continue;
-    const glm::vec3 p =
-        glm::vec3(view.rays[i].originTMin) + glm::vec3(view.rays[i].dirTMax) * h.normalT.w;
-    const glm::dvec3 w = image.cascade0MinWorld + glm::dvec3(p) * image.voxelSize0;
-    if (std::abs(w.y) > 0.05 || w.x < r.x0 || w.x > r.x1 || w.z < r.z0 || w.z > r.z1) continue;
-    sum += glm::dvec3(radiance[i]);
-    ++n;
-  }
-  *count = n;
-  return n ? sum / double(n) : sum;
-}
-
-double lum(glm::dvec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+World testWorld() { return test::demoGiWorld(); }
+SceneLights testLights() { return test::demoGiLights(); }
+Camera testCamera() { return test::demoGiCamera(); }
 
 std::size_t nonFinite(const std::vector<glm::vec3>& v) {
   std::size_t bad = 0;

@@ -27,12 +27,14 @@ std::size_t countDifferent(const std::vector<std::uint32_t>& a,
 }
 
 TEST_F(ObjectLightTest, ShadowsFollowTheObjectAndOnlyItsPagesAreRelit) {
-  // A floor (top at y = 40) in a low sun; one cascade, voxel = 1 m.
+  // A floor (top at y = 40); one cascade, voxel = 1 m.
   test::AnalyticStack stack(
       1, [](glm::vec3 p, float) { return test::sdFloor(p); },
       [](glm::vec3) { return test::uniformMaterial(test::rgba8(200, 200, 200), 0u); });
   const CascadeStackImage& image = stack.image;
-  const std::vector<gs::GpuLight> lights = {test::sunLight({0.4f, 1.0f, 0.2f}, 3.0f)};
+  // A sun and a point light beside the object: the relit pages must cover both shadows.
+  const std::vector<gs::GpuLight> lights = {test::sunLight({0.4f, 1.0f, 0.2f}, 3.0f),
+                                            test::pointLight({40.0f, 60.0f, 60.0f}, 900.0f)};
   gs::GpuSky sky{};
   GpuStackScene scene(ctx());
   scene.uploadAll(image);
@@ -61,11 +63,12 @@ TEST_F(ObjectLightTest, ShadowsFollowTheObjectAndOnlyItsPagesAreRelit) {
   cache.update(scene, lights, sky, all, image.voxelSize0, &objScene);
   const std::vector<std::uint32_t> full = cache.downloadRadiance();
 
-  // How dark the box's shadow is: floor cells whose light dropped by more than 90%.
+  // The box's shadows: floor cells that lost more than a fifth of their light (the other light
+  // still reaches most of them).
   std::size_t shadowed = 0;
   for (std::size_t i = 0; i < full.size(); ++i) {
     const float before = test::decode(unshadowed[i]).x, after = test::decode(full[i]).x;
-    if (before > 0.0f && after < 0.1f * before) ++shadowed;
+    if (before > 0.0f && after < 0.8f * before) ++shadowed;
   }
 
   // Move the box away: the old shadow must clear (only changed pages relit).
