@@ -92,6 +92,8 @@ ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet
   }
   f.params = glm::vec4(settings.sizeRule, settings.hitEpsilon, float(settings.maxSteps), 0.0f);
 
+  f.boundsMin = glm::vec4(glm::vec3(1e30f), 0.0f);  // empty until an instance widens it
+  f.boundsMax = glm::vec4(glm::vec3(-1e30f), 0.0f);
   out.regions.assign(std::size_t(cascades) * gs::kRegionsPerCascade, gs::ObjectRegionGpu{});
   out.instances.reserve(instances.size());
   std::uint64_t capacity = 0;
@@ -110,6 +112,8 @@ ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet
       out.cascadeMask |= 1u << c;
     }
     out.instances.push_back(g);
+    f.boundsMin = glm::min(f.boundsMin, glm::vec4(glm::vec3(g.boundsMin), 0.0f));
+    f.boundsMax = glm::max(f.boundsMax, glm::vec4(glm::vec3(g.boundsMax), 0.0f));
   }
   // Regions where something moved (old and new poses, removals included): the probes there wake.
   for (const WorldBox& box : instances.changedBoxes(library)) {

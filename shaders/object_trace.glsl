@@ -207,10 +207,15 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
   uint cascades = OBJ_FRAME.counts.y;
   if (OBJ_FRAME.counts.x == 0u || firstCascade >= cascades) return best;
   vec3 inv = objSafeInverse(d);
-  // Clip to the coarsest region grid: nothing is listed outside it.
+  // Clip to the coarsest region grid, where anything is listed, and to the box around every
+  // instance: most rays of a frame never come near an object and stop here.
   vec4 outer = OBJ_FRAME.regionOrigin[cascades - 1u];
   vec3 outerLo = vec3(outer.x, outer.y, outer.z);
-  vec2 span = objBoxClip(o, inv, outerLo, outerLo + vec3(8.0f * outer.w));
+  vec3 lo = max(outerLo, vec3(OBJ_FRAME.boundsMin.x, OBJ_FRAME.boundsMin.y, OBJ_FRAME.boundsMin.z));
+  vec3 hi = min(outerLo + vec3(8.0f * outer.w),
+                vec3(OBJ_FRAME.boundsMax.x, OBJ_FRAME.boundsMax.y, OBJ_FRAME.boundsMax.z));
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return best;
+  vec2 span = objBoxClip(o, inv, lo, hi);
   float t = max(tMin, span.x);
   float tEnd = min(tMax, span.y);
   for (uint step = 0u; step < 512u && t <= tEnd; ++step) {

@@ -60,6 +60,8 @@ struct ObjectFrameGpu {
                  // capacity (entries); w: meshes
   vec4 regionOrigin[kMaxRegionCascades];  // xyz: cascade c's min corner in stack space;
                                           // w: its region edge in stack voxels (16 · 2^c)
+  vec4 boundsMin;  // xyz: stack-space AABB of every instance (empty when none); w: 0
+  vec4 boundsMax;  // rays search objects only where they cross it
   vec4 params;  // x: size rule, the smallest bounding radius in voxels of cascade c an object
                 // needs to be listed in c > 0 (0 lists every object everywhere); y: hit epsilon
                 // in grid voxels; z: max sphere-tracing steps per object segment; w: 0
@@ -99,7 +101,7 @@ SDF_END_NAMESPACE
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 16);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 96);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTracePush) == 16);
