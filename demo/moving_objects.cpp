@@ -9,23 +9,11 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "objects/split_mix_rng.h"
 #include "world/partition.h"
 
 namespace sdfstream {
 namespace {
-
-// SplitMix64 (as objects/scripted_motion.cpp): the same placement on every platform.
-struct Rng {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-};
 
 glm::quat yaw(double radians) { return glm::angleAxis(float(radians), glm::vec3(0, 1, 0)); }
 
@@ -119,7 +107,7 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
                                   lib.addBox(glm::vec3(0.5f), {0.8f, 0.8f, 0.78f, 1.0f})};
   const std::uint32_t spheres[2] = {lib.addSphere(0.5f, {0.15f, 0.3f, 0.85f, 1.0f}, 16),
                                     lib.addSphere(0.5f, {0.85f, 0.1f, 0.12f, 1.0f}, 16)};
-  Rng rng{settings.seed};
+  SplitMixRng rng{settings.seed};
   const double stretch = std::max(settings.sEnd - settings.sBegin, 0.0);
   for (std::uint32_t i = 0; i < settings.count; ++i) {
     // Draw every number first, so a skipped object does not shift the ones after it.
@@ -127,7 +115,8 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
     const double side = (i % 2 ? 1.0 : -1.0) * rng.uniform(2.0, std::max(settings.maxSide, 2.0));
     const bool sphere = rng.next() & 1;
     const std::uint32_t colour = std::uint32_t(rng.next() & 1);
-    const bool large = settings.largeEvery > 0 && i % settings.largeEvery == settings.largeEvery - 1;
+    const bool large =
+        settings.largeEvery > 0 && i % settings.largeEvery == settings.largeEvery - 1;
     const double size = large ? rng.uniform(settings.largeMin, settings.largeMax)
                               : rng.uniform(settings.minSize, settings.maxSize);
     glm::vec3 scale{float(size)};
@@ -147,7 +136,7 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
     const glm::quat rotation = yaw(heading);
     Mover mover;
     switch ((i + i / 6) % 3) {  // (i / 6: the large ones, every 6th by default, vary too)
-      case 0: {  // hovering circle, high enough over the ground of its whole circle
+      case 0: {                 // hovering circle, high enough over the ground of its whole circle
         const double r = 2.0 + 4.0 * a;
         double top = *floor;
         for (int k = 0; k < 4; ++k) {
@@ -165,8 +154,8 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
         const double rest = *floor + radius;
         const double drop = 8.0 + 12.0 * a;
         const double fall = std::sqrt(2.0 * drop / kGravity);
-        mover = Fall{glm::dvec3(at.x, rest + drop, at.z), rest, fall + 0.5 + 1.5 * b, c,
-                     glm::dvec3(0.3, 1.0, 0.2), 0.5 + d};
+        mover = Fall{glm::dvec3(at.x, rest + drop, at.z), rest,   fall + 0.5 + 1.5 * b, c,
+                     glm::dvec3(0.3, 1.0, 0.2),           0.5 + d};
         break;
       }
       default: {  // a rectangular loop on the ground, resting on its highest corner
@@ -177,7 +166,8 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
           if (auto h = ground.heightAt(at.x + k.x, at.z + k.z)) top = std::max(top, *h);
         const double lift = 0.5 * scale.y;  // yaw-only rotation: half the height
         Path p;
-        for (const glm::dvec3& k : corners) p.points.push_back(glm::dvec3(at.x, top + lift, at.z) + k);
+        for (const glm::dvec3& k : corners)
+          p.points.push_back(glm::dvec3(at.x, top + lift, at.z) + k);
         p.speed = 3.0 + 5.0 * c;
         p.phase = d;
         mover = std::move(p);
@@ -209,9 +199,9 @@ std::unique_ptr<DemoObjects> demoSceneObjects() {
   motion.add(set.add(cube, {}),
              Fall{glm::dvec3(1.3, 1.95, 2.5), 0.355, 3.0, 0.0, glm::dvec3(0, 1, 0), 0.3});
   // A flat box driving a 1.1 x 1.0 m loop on the ground, right front.
-  motion.add(set.add(slab, {}),
-             Path{{{2.0, 0.18, 1.5}, {3.1, 0.18, 1.5}, {3.1, 0.18, 2.5}, {2.0, 0.18, 2.5}}, 0.25,
-                  0.0});
+  motion.add(
+      set.add(slab, {}),
+      Path{{{2.0, 0.18, 1.5}, {3.1, 0.18, 1.5}, {3.1, 0.18, 2.5}, {2.0, 0.18, 2.5}}, 0.25, 0.0});
   objects->apply(0.0);
   return objects;
 }

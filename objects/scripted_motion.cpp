@@ -7,6 +7,7 @@
 #include <string>
 
 #include "objects/primitive_meshes.h"
+#include "objects/split_mix_rng.h"
 
 namespace sdfstream {
 namespace {
@@ -22,32 +23,6 @@ double cycle(double x, double period) {
   const double f = x / period - std::floor(x / period);
   return f < 1.0 ? f : 0.0;
 }
-
-// SplitMix64: tiny, and the same numbers on every platform (std:: distributions are not).
-struct Rng {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-  // Uniform rotation (Shoemake, Graphics Gems III).
-  glm::quat rotation() {
-    const double u1 = uniform(), u2 = 2 * std::numbers::pi * uniform(),
-                 u3 = 2 * std::numbers::pi * uniform();
-    const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-    return glm::quat(float(b * std::cos(u3)), float(a * std::sin(u2)), float(a * std::cos(u2)),
-                     float(b * std::sin(u3)));
-  }
-  glm::dvec3 direction() {
-    const double z = uniform(-1, 1), phi = 2 * std::numbers::pi * uniform();
-    const double r = std::sqrt(std::max(0.0, 1 - z * z));
-    return {r * std::cos(phi), r * std::sin(phi), z};
-  }
-};
 
 }  // namespace
 
@@ -135,7 +110,7 @@ ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t
   const glm::dvec3 size = area.max - area.min;
   // Motion stays small next to the area so objects spread over it rather than crowd an edge.
   const double roomXz = 0.25 * std::min(size.x, size.z);
-  Rng rng{seed};
+  SplitMixRng rng{seed};
   ScriptedMotion motion;
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::uint32_t mesh = rng.next() & 1 ? sphere : box;

@@ -180,6 +180,26 @@ float lightSmoothWindow(float edge0, float edge1, float x) {
 // n: far enough that trilinear/fp16 noise of the surface it leaves does not count as a hit, and
 // never more than half of a wall one finest voxel thick, so it cannot start beyond such a wall
 // (a leak the GI would carry indoors).
+// The shadow ray from `origin` towards light l: unit direction and length (cascade-0 voxels) --
+// the sun's direction until the ray leaves the stack, or straight to a point/spot light. tMax <= 0
+// when the origin sits on the light (no ray).
+struct LightShadowRay {
+  vec3 dir;
+  float tMax;
+};
+
+LightShadowRay lightShadowRay(GpuLight l, vec3 origin) {
+  LightShadowRay r;
+  r.dir = normalize(vec3(l.direction));
+  r.tMax = 1e9f;  // the sun: until the ray leaves the stack
+  if (uint(l.positionType.w + 0.5f) != kLightSun) {
+    vec3 delta = vec3(l.positionType) - origin;
+    r.tMax = length(delta);
+    if (r.tMax > 0.0f) r.dir = delta / r.tMax;
+  }
+  return r;
+}
+
 vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxSteps, float hitEpsilon,
                      uint cascadeCount) {
   uint type = uint(l.positionType.w + 0.5f);
@@ -210,20 +230,14 @@ vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxStep
     uint c = lightFinestCascade(p0, cascadeCount);
     float voxel = SDF_CASCADE(c < cascadeCount ? c : cascadeCount - 1u).offsetScale.w;
     SDF_PRECISE vec3 origin = p0 + n * (0.5f * voxel);
-    vec3 dir = toLight;
-    float tMax0 = 1e9f;  // the sun: until the ray leaves the stack
-    if (type != kLightSun) {
-      vec3 delta = lightPos - origin;
-      tMax0 = length(delta);
-      if (tMax0 <= 0.0f) return vec3(0.0f);
-      dir = delta / tMax0;
-    }
-    scalar *=
-        sdfSoftShadowStack(origin, dir, 0.0f, tMax0, maxSteps, hitEpsilon, cascadeCount, l.shape.z);
+    LightShadowRay ray = lightShadowRay(l, origin);
+    if (ray.tMax <= 0.0f) return vec3(0.0f);
+    scalar *= sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, maxSteps, hitEpsilon,
+                                 cascadeCount, l.shape.z);
 #ifdef OBJ_FRAME
     // Moving objects cast hard shadows (issue 7 item 6); the includer binds them.
     if (scalar > 0.0f && OBJ_FRAME.counts.x > 0u &&
-        objTraceRegions(origin, dir, 0.0f, tMax0, 0u).t >= 0.0f)
+        objTraceRegions(origin, ray.dir, 0.0f, ray.tMax, 0u).t >= 0.0f)
       scalar = 0.0f;
 #endif
   }

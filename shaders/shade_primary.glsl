@@ -67,19 +67,13 @@ vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePus
   SdfSample inside = sdfSampleCascade((p0 - vec3(cp.offsetScale)) / cp.offsetScale.w, cp.toroidal);
   float depth = inside.resident ? max(-inside.distance, 0.0f) : 0.0f;
   SDF_PRECISE vec3 origin = p0 + n * ((0.5f + depth) * cp.offsetScale.w);
-  vec3 dir = normalize(vec3(l.direction));
-  float tMax0 = 1e9f;  // the sun: until the ray leaves the stack
-  if (uint(l.positionType.w + 0.5f) != kLightSun) {
-    vec3 delta = vec3(l.positionType) - origin;
-    tMax0 = length(delta);
-    if (tMax0 <= 0.0f) return vec3(0.0f);
-    dir = delta / tMax0;
-  }
-  float visibility = shadeSoftShadowStack(origin, dir, tMax0, pc.options.y, pc.params.z,
+  LightShadowRay ray = lightShadowRay(l, origin);
+  if (ray.tMax <= 0.0f) return vec3(0.0f);
+  float visibility = shadeSoftShadowStack(origin, ray.dir, ray.tMax, pc.options.y, pc.params.z,
                                           hitCascade, pc.counts.z, l.shape.z);
 #ifdef OBJ_FRAME
   // Objects cast hard shadows on the static scene (the light cache's rule, light_math.glsl).
-  if (visibility > 0.0f && shadeTraceObjects(origin, dir, 0.0f, tMax0, pc).t >= 0.0f)
+  if (visibility > 0.0f && shadeTraceObjects(origin, ray.dir, 0.0f, ray.tMax, pc).t >= 0.0f)
     visibility = 0.0f;
 #endif
   return e * visibility;
@@ -103,17 +97,11 @@ vec3 shadeObjectLightIrradiance(GpuLight l, vec3 p0, vec3 n, ShadePushConstants 
   vec3 e = lightIrradiance(unshadowed, p0, n, pc.params.x, 0u, pc.params.z, pc.counts.z);
   if (!(max(e.x, max(e.y, e.z)) > 0.0f) || l.shape.w <= 0.5f) return e;
   SDF_PRECISE vec3 origin = p0 + n * kShadeObjectShadowOffset;
-  vec3 dir = normalize(vec3(l.direction));
-  float tMax0 = 1e9f;  // the sun: until the ray leaves the stack
-  if (uint(l.positionType.w + 0.5f) != kLightSun) {
-    vec3 delta = vec3(l.positionType) - origin;
-    tMax0 = length(delta);
-    if (tMax0 <= 0.0f) return vec3(0.0f);
-    dir = delta / tMax0;
-  }
-  float visibility = sdfSoftShadowStack(origin, dir, 0.0f, tMax0, pc.options.y, pc.params.z,
-                                        pc.counts.z, l.shape.z);
-  if (visibility > 0.0f && shadeTraceObjects(origin, dir, 0.0f, tMax0, pc).t >= 0.0f)
+  LightShadowRay ray = lightShadowRay(l, origin);
+  if (ray.tMax <= 0.0f) return vec3(0.0f);
+  float visibility = sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, pc.options.y,
+                                        pc.params.z, pc.counts.z, l.shape.z);
+  if (visibility > 0.0f && shadeTraceObjects(origin, ray.dir, 0.0f, ray.tMax, pc).t >= 0.0f)
     visibility = 0.0f;
   return e * visibility;
 }

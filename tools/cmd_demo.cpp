@@ -10,6 +10,7 @@
 #include "gpu/context.h"
 #include "tools/args.h"
 #include "tools/commands.h"
+#include "tools/cornell_light.h"
 #include "tools/view_renderer.h"
 #include "world/gltf_import.h"
 #include "world/mesh_to_sdf.h"
@@ -28,44 +29,6 @@ double mean(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
   return v.empty() ? 0.0 : s / double(v.size());
-}
-
-// The Cornell box's ceiling light as a downward spot light below the light quad's centre, of
-// on-axis intensity Ke × quad area, with the quad's emission removed: direct light is then a
-// delta light the probes do not store (DDGI's split), the convention `bench gi` and its
-// path-traced reference use for this scene, so the pictures are comparable.
-SceneLight cornellSpotFromEmitters(TriangleScene& s) {
-  glm::dvec3 centre(0.0), emitted(0.0);
-  double area = 0.0;
-  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
-    const Material& m = s.materials[s.triangleMaterial[t]];
-    if (glm::length(m.emissive) <= 0.0f) continue;
-    const glm::dvec3 a = s.positions[s.triangles[t].x], b = s.positions[s.triangles[t].y],
-                     c = s.positions[s.triangles[t].z];
-    const double A = 0.5 * glm::length(glm::cross(b - a, c - a));
-    centre += A * (a + b + c) / 3.0;
-    emitted += A * glm::dvec3(m.emissive);
-    area += A;
-  }
-  if (area <= 0.0)
-    throw InputError(InputErrorKind::MissingData, s.source, "no emissive ceiling light found");
-  centre /= area;
-  const glm::vec3 ke = glm::vec3(emitted / area);
-  for (Material& m : s.materials) m.emissive = glm::vec3(0.0f);
-  SceneLight spot;
-  spot.type = SceneLight::Type::Spot;
-  spot.position = centre - glm::dvec3(0.0, 0.025 * double(s.boundsMax().y - s.boundsMin().y), 0.0);
-  spot.direction = glm::vec3(0.0f, -1.0f, 0.0f);
-  const float peak = std::max({ke.x, ke.y, ke.z});
-  spot.color = ke / peak;
-  spot.intensity = peak * float(area);  // on-axis intensity of a Lambertian quad: L·A
-  spot.innerConeDegrees = 0.0f;
-  spot.outerConeDegrees = 90.0f;
-  // The real light is flush with the ceiling, which never occludes it; the default penumbra
-  // (k = 16) would read the ceiling the shadow rays graze near the light as a soft occluder and
-  // band the walls. k = 64 keeps the boxes' shadows soft but the ceiling out of them.
-  spot.shadowSharpness = 64.0f;
-  return spot;
 }
 
 struct DemoView {
@@ -89,9 +52,8 @@ struct ObjectViewStats {
 // objectViews with the objects moving for kObjectGiFrames more GI frames.
 void renderViews(const World& world, gpu::Context* context, const RenderOptions& options,
                  const std::vector<DemoView>& views, const fs::path& outDir, int width, int height,
-                 std::ostringstream& rows, std::ostringstream& gi,
-                 std::ostringstream& convergence, DemoObjects* objects = nullptr,
-                 const std::vector<DemoView>& objectViews = {},
+                 std::ostringstream& rows, std::ostringstream& gi, std::ostringstream& convergence,
+                 DemoObjects* objects = nullptr, const std::vector<DemoView>& objectViews = {},
                  ObjectViewStats* objectStats = nullptr) {
   ViewRenderer renderer(world, context, options);
   std::vector<DemoView> all = views;
@@ -180,7 +142,8 @@ int runDemo(int argc, char** argv) {
   int width = args.integer("--width", 640, 16, 4096);
   int height = args.integer("--height", 480, 16, 4096);
   RenderOptions options = renderOptionsFromArgs(args, args.has("--cpu"), 24);
-  const std::string objectsFlag = args.value("--objects").value_or(args.has("--cpu") ? "off" : "on");
+  const std::string objectsFlag =
+      args.value("--objects").value_or(args.has("--cpu") ? "off" : "on");
   if (objectsFlag != "on" && objectsFlag != "off")
     throw InputError(InputErrorKind::Usage, "command line",
                      "--objects expects on or off, got '" + objectsFlag + "'");
@@ -248,7 +211,10 @@ int runDemo(int argc, char** argv) {
     RenderOptions boxOptions = options;
     // The box's own light only: no sun, black sky (the open front looks into the dark).
     boxOptions.lights = SceneLights{};
-    boxOptions.lights.lights.push_back(cornellSpotFromEmitters(box));
+    // The real light is flush with the ceiling, which never occludes it; the default penumbra
+    // (k = 16) would read the ceiling the shadow rays graze near the light as a soft occluder
+    // and band the walls. k = 64 keeps the boxes' shadows soft but the ceiling out of them.
+    boxOptions.lights.lights.push_back(cornellSpotFromEmitters(box, 64.0f));
     if (!args.value("--exposure")) boxOptions.exposureStops = 1.5f;
     World boxWorld = meshToWorld(box, defaultVoxelSize(box), ImportLimits{});
     const glm::dvec3 lo = boxWorld.worldMin(), hi = boxWorld.worldMax(), mid = 0.5 * (lo + hi);

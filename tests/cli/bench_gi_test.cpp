@@ -12,33 +12,17 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
 
 namespace sdfstream {
 namespace {
 namespace fs = std::filesystem;
 
-struct Result {
-  int exitCode;
-  std::string out;
-};
+using Result = test::CliResult;
 
 Result runCli(const std::string& arguments) {
-  const std::string cmd = std::string(SDFSTREAM_CLI) + " " + arguments + " 2>&1";
-  Result r{};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return test::runCli(SDFSTREAM_CLI, arguments, /*mergeStderr=*/true);
 }
 
 TEST(BenchGi, BuiltInCornellBoxWritesCsvSummaryAndPlot) {
@@ -52,10 +36,10 @@ TEST(BenchGi, BuiltInCornellBoxWritesCsvSummaryAndPlot) {
   ASSERT_EQ(r.exitCode, 0) << r.out;
   EXPECT_NE(r.out.find("sponza:"), std::string::npos) << r.out;  // skipped, with a message
   EXPECT_EQ(r.out.find("[vulkan"), std::string::npos) << r.out;  // no validation message
-  const std::string csv = slurp(dir / "out" / "results.csv");
+  const std::string csv = test::readText(dir / "out" / "results.csv");
   EXPECT_EQ(csv.rfind("scene,config,family,rays,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\ncornell-box,spacing-4,ours,128,4,1,"), std::string::npos) << csv;
-  const std::string md = slurp(dir / "out" / "summary.md");
+  const std::string md = test::readText(dir / "out" / "summary.md");
   EXPECT_NE(md.find("built in code from Cornell's measurements"), std::string::npos) << md;
   EXPECT_NE(md.find("## sponza\n\nSkipped:"), std::string::npos) << md;
   EXPECT_NE(md.find("Pareto front"), std::string::npos) << md;

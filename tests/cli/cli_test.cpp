@@ -11,34 +11,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
 
 namespace sdfstream {
 namespace {
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exitCode;
-  std::string out;
-  std::string err;
-};
+using RunResult = test::CliResult;
 
-RunResult run(const std::string& arguments) {
-  static int counter = 0;
-  fs::path errFile = fs::temp_directory_path() /
-                     ("sdfstream-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-  std::string cmd = std::string(SDFSTREAM_CLI) + " " + arguments + " 2>" + errFile.string();
-  RunResult r{};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-  int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(errFile);
-  r.err.assign(std::istreambuf_iterator<char>(e), {});
-  fs::remove(errFile);
-  return r;
-}
+RunResult run(const std::string& arguments) { return test::runCli(SDFSTREAM_CLI, arguments); }
 
 int lineCount(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -116,8 +98,8 @@ TEST(Cli, FailedImportKeepsAnExistingWorld) {
   ASSERT_TRUE(fs::exists(world / "manifest.json"));
   ASSERT_FALSE(fs::is_empty(world / "tiles"));
   std::string bytes = packBytes(world);
-  RunResult bad = run("import " + (kGltf2 / "MissingBin/BoxTextured.gltf").string() + " -o " +
-                      world.string());
+  RunResult bad =
+      run("import " + (kGltf2 / "MissingBin/BoxTextured.gltf").string() + " -o " + world.string());
   EXPECT_NE(bad.exitCode, 0);
   EXPECT_EQ(bytes, packBytes(world));
   int entries = 0;

@@ -17,41 +17,16 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
 
 namespace sdfstream {
 namespace {
 namespace fs = std::filesystem;
 
-struct Result {
-  int exitCode;
-  std::string out, err;
-};
+using Result = test::CliResult;
 
-Result runCli(const std::string& arguments) {
-  static int counter = 0;
-  const fs::path errFile =
-      fs::temp_directory_path() /
-      ("sdfstream-stress-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-  const std::string cmd = std::string(SDFSTREAM_CLI) + " " + arguments + " 2>" + errFile.string();
-  Result r{};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(errFile);
-  r.err.assign(std::istreambuf_iterator<char>(e), {});
-  fs::remove(errFile);
-  return r;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+Result runCli(const std::string& arguments) { return test::runCli(SDFSTREAM_CLI, arguments); }
 
 int lineCount(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -113,7 +88,7 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
   auto rows = readResults(out / "results.csv");
   for (const char* key : {"0/static", "0/static-repeat", "0/regions", "0/naive", "5/regions",
                           "5/naive", "20/regions", "20/naive"})
-    ASSERT_TRUE(rows.count(key)) << key << "\n" << slurp(out / "results.csv");
+    ASSERT_TRUE(rows.count(key)) << key << "\n" << test::readText(out / "results.csv");
   EXPECT_EQ(rows["0/static"]["frames"], "6");
   EXPECT_NE(rows["0/naive"]["skipped"], "");  // nothing to test without objects
   // The 0-object run does the static-only work: no region pass, no ray searching objects, and
@@ -138,9 +113,9 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
     EXPECT_GT(std::stod(rows[key]["object_rays"]), 0.0) << key;
   }
   // Every measured frame is in frames.csv: 6 for each of the 7 runs made.
-  EXPECT_EQ(lineCount(slurp(out / "frames.csv")), 1 + 7 * 6);
+  EXPECT_EQ(lineCount(test::readText(out / "frames.csv")), 1 + 7 * 6);
 
-  const std::string md = slurp(out / "summary.md");
+  const std::string md = test::readText(out / "summary.md");
   EXPECT_NE(md.find("Goal (10,000 spread objects cost <= 1.5x the static-only probe update): "
                     "not measured in this run"),
             std::string::npos)

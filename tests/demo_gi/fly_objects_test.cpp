@@ -13,31 +13,17 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
 
 namespace sdfstream {
 namespace {
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exitCode;
-  std::string out;
-};
+using RunResult = test::CliResult;
 
 RunResult run(const std::string& arguments) {
-  const std::string cmd = std::string(SDFSTREAM_CLI) + " " + arguments + " 2>&1";
-  RunResult r{};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  while (std::size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string readText(const fs::path& file) {
-  std::ifstream in(file);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  return test::runCli(SDFSTREAM_CLI, arguments, /*mergeStderr=*/true);
 }
 
 // gi.csv as a header -> column map and rows of numbers.
@@ -53,7 +39,7 @@ struct Csv {
 };
 Csv readCsv(const fs::path& file) {
   Csv csv;
-  std::istringstream in(readText(file));
+  std::istringstream in(test::readText(file));
   std::string line;
   bool first = true;
   while (std::getline(in, line)) {
@@ -61,8 +47,10 @@ Csv readCsv(const fs::path& file) {
     std::string cell;
     std::vector<double> row;
     while (std::getline(cells, cell, ',')) {
-      if (first) csv.header.push_back(cell);
-      else row.push_back(std::stod(cell));
+      if (first)
+        csv.header.push_back(cell);
+      else
+        row.push_back(std::stod(cell));
     }
     if (!first) csv.rows.push_back(row);
     first = false;
@@ -100,7 +88,7 @@ TEST(FlyObjects, ObjectsShowInFramesAndMetrics) {
   EXPECT_GT(csv.at(3, "object_pixels"), 20.0);
   EXPECT_GT(csv.at(1, "object_rays"), 0.0) << "the probes should trace the objects";
   EXPECT_GT(csv.at(1, "object_region_ms"), 0.0);
-  const std::string summary = readText(dir / "with/summary.md");
+  const std::string summary = test::readText(dir / "with/summary.md");
   EXPECT_NE(summary.find("## Moving objects"), std::string::npos) << summary;
 
   const RunResult none = run(common + "-o " + (dir / "none").string() + " --objects 0");
@@ -108,10 +96,10 @@ TEST(FlyObjects, ObjectsShowInFramesAndMetrics) {
   const Csv csvNone = readCsv(dir / "none/gi.csv");
   EXPECT_EQ(csvNone.at(0, "object_instances"), 0.0);
   EXPECT_EQ(csvNone.at(0, "object_pixels"), 0.0);
-  EXPECT_EQ(readText(dir / "none/summary.md").find("## Moving objects"), std::string::npos);
+  EXPECT_EQ(test::readText(dir / "none/summary.md").find("## Moving objects"), std::string::npos);
   // The objects change the picture.
-  EXPECT_NE(readText(dir / "with/frames/frame-0000.png"),
-            readText(dir / "none/frames/frame-0000.png"));
+  EXPECT_NE(test::readText(dir / "with/frames/frame-0000.png"),
+            test::readText(dir / "none/frames/frame-0000.png"));
 
   const RunResult cpu = run(common + "-o " + (dir / "cpu").string() + " --cpu --objects 5");
   EXPECT_EQ(cpu.exitCode, 2) << cpu.out;
