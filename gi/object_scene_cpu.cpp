@@ -104,9 +104,4 @@ gs::ObjectTraceHit ObjectSceneCpu::traceAll(const gs::TraceRay& ray) const {
                                             ray.originTMin.w, ray.dirTMax.w));
 }
 
-float ObjectSceneCpu::instanceDistance(std::uint32_t i, glm::vec3 p) const {
-  ObjectPasses passes = passesOf(atlas_, frame_, regions_, flat_);
-  return passes.objInstanceDistance(i, p);
-}
-
 }  // namespace sdfstream

@@ -26,8 +26,6 @@ class ObjectSceneCpu {
   // objTraceRegions / objTraceAll of shaders/object_trace.glsl, as C++.
   gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray) const;
   gpu_shared::ObjectTraceHit traceAll(const gpu_shared::TraceRay& ray) const;
-  // Signed distance in stack voxels from p to instance i (objInstanceDistance).
-  float instanceDistance(std::uint32_t i, glm::vec3 p) const;
 
   const ObjectFrameData& frame() const { return frame_; }
 
