@@ -157,6 +157,8 @@ const char* shaderName(ShaderId id) {
 ")
 
   add_library(${ARG_TARGET} STATIC "${gen_dir}/shaders/embedded_shaders.cpp" ${cpp_files})
-  target_include_directories(${ARG_TARGET} PUBLIC "${gen_dir}")
+  target_include_directories(${ARG_TARGET} PUBLIC $<BUILD_INTERFACE:${gen_dir}>)
+  install(FILES "${gen_dir}/shaders/embedded_shaders.h"
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sdfstream/shaders)
   target_compile_features(${ARG_TARGET} PUBLIC cxx_std_20)
 endfunction()

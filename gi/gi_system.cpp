@@ -2,14 +2,40 @@
 
 #include <algorithm>
 #include <iterator>
+#include <string_view>
+#include <utility>
 
 namespace sdfstream {
+namespace {
+// Timed passes per frame: 3 region passes, the light cache, 7 probe passes, with room to spare.
+constexpr std::uint32_t kFramePasses = 16;
+
+std::vector<gpu::PassTiming> passesStartingWith(const std::vector<gpu::PassTiming>& all,
+                                                std::string_view prefix) {
+  std::vector<gpu::PassTiming> out;
+  for (const gpu::PassTiming& t : all)
+    if (std::string_view(t.name).starts_with(prefix)) out.push_back(t);
+  return out;
+}
+
+double totalMilliseconds(const std::vector<gpu::PassTiming>& passes) {
+  double ms = 0.0;
+  for (const gpu::PassTiming& t : passes) ms += t.milliseconds;
+  return ms;
+}
+}  // namespace
 
 GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint32_t cascades)
-    : scene_(context),
+    : context_(context),
+      scene_(context),
       light_(context, settings.light),
       probes_(context, settings.probes, cascades),
-      objects_(context, settings.objects) {}
+      objects_(context, settings.objects),
+      staging_(context, std::max(1u, settings.framesInFlight)) {}
+
+// Frames still in flight keep their batches (query pools) alive until the GPU is done with them:
+// CommandBatch's destruction is deferred like every other GPU object's.
+GiSystem::~GiSystem() = default;
 
 void GiSystem::setObjects(const ObjectLibrary* library, InstanceSet* instances) {
   objectLibrary_ = library;
@@ -20,18 +46,68 @@ void GiSystem::setObjects(const ObjectLibrary* library, InstanceSet* instances) 
 GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
                               const SceneLights& lights, probe::ProbeFrameInputs inputs,
                               std::uint64_t frame) {
-  scene_.sync(stack, dirtySlots);
-  return run(stack.stackImage(), lights, inputs, frame);
+  return runBlocking(
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordSync(b, s, stack, dirtySlots); },
+      stack.stackImage(), lights, inputs, frame);
 }
 
 GiFrameStats GiSystem::update(const CascadeStackImage& image, const SceneLights& lights,
                               probe::ProbeFrameInputs inputs, std::uint64_t frame) {
-  scene_.uploadAll(image);
-  return run(image, lights, inputs, frame);
+  return runBlocking(
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordUploadAll(b, s, image); },
+      image, lights, inputs, frame);
 }
 
-GiFrameStats GiSystem::run(const CascadeStackImage& image, const SceneLights& lights,
-                           probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeStack& stack,
+                                  std::span<const std::uint32_t> dirtySlots,
+                                  const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                                  std::uint64_t frame) {
+  return runRecorded(
+      commandBuffer,
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordSync(b, s, stack, dirtySlots); },
+      stack.stackImage(), lights, inputs, frame);
+}
+
+GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeStackImage& image,
+                                  const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                                  std::uint64_t frame) {
+  return runRecorded(
+      commandBuffer,
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordUploadAll(b, s, image); },
+      image, lights, inputs, frame);
+}
+
+GiFrameStats GiSystem::runBlocking(const SceneUpload& upload, const CascadeStackImage& image,
+                                   const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                                   std::uint64_t frame) {
+  staging_.beginFrame();
+  harvestCompleted();
+  FrameInFlight f{context_.beginBatch(kFramePasses), staging_.currentSlot(), {}};
+  f.stats = recordFrame(f.batch, upload, image, lights, inputs, frame);
+  staging_.endFrame(f.batch.submit());
+  f.batch.wait();
+  return harvest(f);
+}
+
+GiFrameRecording GiSystem::runRecorded(VkCommandBuffer commandBuffer, const SceneUpload& upload,
+                                       const CascadeStackImage& image, const SceneLights& lights,
+                                       probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  staging_.beginFrame();  // waits only when the slot's earlier frame is still running
+  harvestCompleted();     // before this frame's copies overwrite the slot's readback
+  FrameInFlight f{context_.recordInto(commandBuffer, kFramePasses), staging_.currentSlot(), {}};
+  f.stats = recordFrame(f.batch, upload, image, lights, inputs, frame);
+  const gpu::SubmitSignal signal = f.batch.finish();
+  staging_.endFrame(signal.value);
+  inFlight_.push_back(std::move(f));
+  return {signal, frame};
+}
+
+GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& upload,
+                                   const CascadeStackImage& image, const SceneLights& lights,
+                                   probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  GiFrameStats stats;
+  stats.frame = frame;
+  upload(batch, staging_);
   // Lights are world-fixed: the light cache (radiance per voxel) only changes when they do,
   // not when cascade 0 moves and their cascade-relative GPU form with it.
   const bool lightsChanged = lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
@@ -40,10 +116,8 @@ GiFrameStats GiSystem::run(const CascadeStackImage& image, const SceneLights& li
   std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
   const auto gpuLights = toGpu(lights.lights, image);
   const gpu_shared::GpuSky sky = toGpu(lights.sky);
-  GiFrameStats stats;
   if (instances_) {
-    objects_.update(*objectLibrary_, *instances_, image);
-    for (const auto& t : objects_.lastTimings()) stats.objectMilliseconds += t.milliseconds;
+    objects_.record(batch, staging_, *objectLibrary_, *instances_, image);
     stats.objectInstances = std::uint32_t(instances_->size());
     // Relight only where objects moved: the pages their old and new poses shadow.
     const std::vector<WorldBox> changed = instances_->changedBoxes(*objectLibrary_);
@@ -55,21 +129,55 @@ GiFrameStats GiSystem::run(const CascadeStackImage& image, const SceneLights& li
     dirty = std::move(merged);
     instances_->endFrame();
   }
-  light_.update(scene_, gpuLights, sky, dirty, image.voxelSize0, instances_ ? &objects_ : nullptr);
+  light_.record(batch, staging_, scene_, gpuLights, sky, dirty, image.voxelSize0,
+                instances_ ? &objects_ : nullptr);
   inputs.sky = sky;
   inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
-  probes_.update(scene_, image, light_.radianceBuffer(), inputs, frame);
-
+  probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
   stats.pagesRelit = light_.pagesRelitLastUpdate();
-  for (const auto& t : light_.lastTimings()) stats.lightMilliseconds += t.milliseconds;
-  stats.probeMilliseconds = probes_.lastMilliseconds();
-  stats.probes = probes_.lastStats();
+  stats.bytesUploaded = staging_.bytesThisFrame();
   previous_ = std::make_unique<CascadeStackImage>(image);
   return stats;
 }
 
+GiFrameStats GiSystem::harvest(FrameInFlight& done) {
+  GiFrameStats stats = std::move(done.stats);
+  stats.passes = done.batch.timings();
+  stats.probes = probes_.readStats(done.slot);
+  light_.timings_ = passesStartingWith(stats.passes, "light_cache");
+  objects_.timings_ = passesStartingWith(stats.passes, "object_regions");
+  probes_.timings_ = passesStartingWith(stats.passes, "probe_");
+  probes_.stats_ = stats.probes;
+  stats.lightMilliseconds = totalMilliseconds(light_.timings_);
+  stats.objectMilliseconds = totalMilliseconds(objects_.timings_);
+  stats.probeMilliseconds = totalMilliseconds(probes_.timings_);
+  return stats;
+}
+
+void GiSystem::harvestCompleted() {
+  while (!inFlight_.empty() && inFlight_.front().batch.completed()) {
+    completed_ = harvest(inFlight_.front());
+    inFlight_.pop_front();
+  }
+}
+
+std::optional<GiFrameStats> GiSystem::completedStats() {
+  harvestCompleted();
+  return std::exchange(completed_, std::nullopt);
+}
+
 std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQuery> queries) {
   return probes_.sample(scene_, light_.radianceBuffer(), queries);
+}
+
+std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {
+  const auto probe = probes_.sampleBuffers();
+  const gpu::Buffer* buffers[kSampleBindingCount] = {probe[0], probe[1], probe[2], probe[3], probe[4],
+                                                     &scene_.pageTables(), &scene_.distance(),
+                                                     &scene_.params()};
+  std::array<VkDescriptorBufferInfo, kSampleBindingCount> out{};
+  for (std::size_t i = 0; i < kSampleBindingCount; ++i) out[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+  return out;
 }
 
 double GiSystem::lastSampleMilliseconds() const { return probes_.lastMilliseconds(); }

@@ -1,12 +1,22 @@
 // The GI core in one object (issue 5): the stack's device copy (GpuStackScene), the static
 // voxel light cache (LightCache) and the probe field (ProbeField), driven once per frame in the
-// order they depend on each other: sync the streamed bricks -> relight the dirty pages -> update
-// the probes. Then irradiance(x, n, view) queries for shading. What callers (the demo, the
-// benchmarks) use; the tests drive the parts directly to compare them with their references.
+// order they depend on each other: sync the streamed bricks -> region lists of moving objects ->
+// relight the dirty pages -> update the probes. Then irradiance(x, n, view) queries for shading.
+//
+// Two ways to run a frame:
+//  - record(): everything (uploads through a staging ring of framesInFlight slots, region
+//    lists, light cache, every probe pass) goes into the caller's command buffer with the
+//    barriers it needs and no CPU wait; the caller submits it, signalling the returned timeline
+//    value. Statistics and GPU timings come back a frame or more late (completedStats()).
+//  - update(): the same recorded into an own batch, submitted and waited for (tests, the CLI).
+// Both record identical commands, so their results are bit for bit the same.
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -16,6 +26,7 @@
 #include "gi/probe_field.h"
 #include "gi/scene_lights.h"
 #include "gpu/context.h"
+#include "gpu/staging_ring.h"
 #include "streaming/cascade_stack.h"
 
 namespace sdfstream {
@@ -24,21 +35,34 @@ struct GiSettings {
   probe::ProbeFieldSettings probes;
   LightCacheSettings light;
   ObjectSceneSettings objects;
+  // Frames record() may run ahead of the GPU; each owns its staging and readback memory.
+  std::uint32_t framesInFlight = 2;
 };
 
 struct GiFrameStats {
+  std::uint64_t frame = 0;         // as passed to update()/record()
   std::uint32_t pagesRelit = 0;
   double lightMilliseconds = 0.0;  // GPU time of the light cache pass (0 when skipped)
   double probeMilliseconds = 0.0;  // GPU time of all probe passes
   double objectMilliseconds = 0.0; // GPU time of the macro-region passes (0 without objects)
   std::uint32_t objectInstances = 0;
   std::uint32_t objectPagesRelit = 0;  // light-cache pages relit because objects moved
+  std::size_t bytesUploaded = 0;       // staging bytes of the frame (bricks, tables, instances)
   probe::ProbeFieldStats probes;
+  std::vector<gpu::PassTiming> passes;  // every timed pass of the frame, in recording order
+};
+
+// What the caller's vkQueueSubmit of a recorded frame must signal (one
+// VkTimelineSemaphoreSubmitInfo entry), on a queue of Context::queueFamily().
+struct GiFrameRecording {
+  gpu::SubmitSignal signal;
+  std::uint64_t frame = 0;
 };
 
 class GiSystem {
  public:
   GiSystem(gpu::Context& context, const GiSettings& settings, std::uint32_t cascades);
+  ~GiSystem();
 
   // One frame of a streaming stack: uploads its page tables and the atlas slots it rewrote
   // (CascadeStack::takeDirtySlots), relights dirty pages, updates the probes. Blocking.
@@ -49,6 +73,22 @@ class GiSystem {
   GiFrameStats update(const CascadeStackImage& image, const SceneLights& lights,
                       probe::ProbeFrameInputs inputs, std::uint64_t frame);
 
+  // The same frames recorded into `commandBuffer` (begun by the caller, from a pool of
+  // Context::queueFamily(), outside a render pass). Contract: the caller submits it, signalling
+  // the returned value, before its next call into this GiSystem or its Context; commands it
+  // records after ours see our results (the recording ends with a full barrier). Blocks only
+  // when more than framesInFlight recorded frames are still running on the GPU.
+  GiFrameRecording record(VkCommandBuffer commandBuffer, const CascadeStack& stack,
+                          std::span<const std::uint32_t> dirtySlots, const SceneLights& lights,
+                          probe::ProbeFrameInputs inputs, std::uint64_t frame);
+  GiFrameRecording record(VkCommandBuffer commandBuffer, const CascadeStackImage& image,
+                          const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                          std::uint64_t frame);
+  // Statistics of the newest recorded frame the GPU has finished since the last call (older
+  // finished frames are skipped); nullopt when none finished. Never waits.
+  std::optional<GiFrameStats> completedStats();
+  std::uint32_t framesInFlight() const { return staging_.framesInFlight(); }
+
   // Moving objects (issue 7), or none (nullptr, the default). Each update then uploads the
   // instances, rebuilds the macro-region lists, relights the pages their moves shadow or
   // unshadow, traces them in the probe update, and consumes the set's change record
@@ -58,8 +98,16 @@ class GiSystem {
   ObjectScene& objects() { return objects_; }
 
   // irradiance(x, n, view) of the current probes (cascade-0 voxels of the last frame's stack).
+  // Blocking (a CPU round trip): engines sample in their own shaders instead.
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
   double lastSampleMilliseconds() const;
+  // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),
+  // in binding order from SDFSTREAM_PROBE_BINDING: probe frame constants, volumes, probe data,
+  // irradiance, depth, then the stack's page tables, distance atlas and cascade params (SDF
+  // visibility). Valid for commands recorded after record()/update() of a frame and until the
+  // next one (buffers may be replaced when the streamed atlas grows): query it every frame.
+  static constexpr std::size_t kSampleBindingCount = 8;
+  std::array<VkDescriptorBufferInfo, kSampleBindingCount> sampleBindings() const;
 
   const GpuStackScene& scene() const { return scene_; }
   const LightCache& lightCache() const { return light_; }
@@ -68,18 +116,40 @@ class GiSystem {
   const CascadeStackImage* lastImage() const { return previous_.get(); }
 
  private:
-  GiFrameStats run(const CascadeStackImage& image, const SceneLights& lights,
-                   probe::ProbeFrameInputs inputs, std::uint64_t frame);
+  struct FrameInFlight {
+    gpu::CommandBatch batch;
+    std::uint32_t slot = 0;
+    GiFrameStats stats;  // the host-side part, filled at record time
+  };
+  // Uploads the scene (whole image or streamed slots) into the frame's batch.
+  using SceneUpload = std::function<std::size_t(gpu::CommandBatch&, gpu::StagingRing&)>;
+  GiFrameStats recordFrame(gpu::CommandBatch& batch, const SceneUpload& upload,
+                           const CascadeStackImage& image, const SceneLights& lights,
+                           probe::ProbeFrameInputs inputs, std::uint64_t frame);
+  GiFrameStats runBlocking(const SceneUpload& upload, const CascadeStackImage& image,
+                           const SceneLights& lights, probe::ProbeFrameInputs inputs,
+                           std::uint64_t frame);
+  GiFrameRecording runRecorded(VkCommandBuffer commandBuffer, const SceneUpload& upload,
+                               const CascadeStackImage& image, const SceneLights& lights,
+                               probe::ProbeFrameInputs inputs, std::uint64_t frame);
+  // Completes a finished frame's statistics (GPU timings, probe counters) and makes them what
+  // the parts' lastTimings()/lastStats() report.
+  GiFrameStats harvest(FrameInFlight& done);
+  void harvestCompleted();
 
+  gpu::Context& context_;
   GpuStackScene scene_;
   LightCache light_;
   probe::ProbeField probes_;
   ObjectScene objects_;
+  gpu::StagingRing staging_;
   const ObjectLibrary* objectLibrary_ = nullptr;
   InstanceSet* instances_ = nullptr;
   std::unique_ptr<CascadeStackImage> previous_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   std::size_t lightCount_ = 0;
+  std::deque<FrameInFlight> inFlight_;
+  std::optional<GiFrameStats> completed_;
 };
 
 }  // namespace sdfstream

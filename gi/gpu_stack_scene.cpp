@@ -3,74 +3,93 @@
 #include <cstring>
 #include <vector>
 
-#include "gpu/command_batch.h"
-
 namespace sdfstream {
 namespace {
-constexpr std::size_t kDistBytes = gpu_shared::kBrickDistanceWords * 4;
-constexpr std::size_t kMatBytes = gpu_shared::kBrickMaterialCount * 4;
+constexpr std::size_t kDistWords = gpu_shared::kBrickDistanceWords;
+constexpr std::size_t kMatWords = gpu_shared::kBrickMaterialCount;
 
 void ensure(gpu::Context& ctx, gpu::Buffer& buffer, std::size_t bytes) {
   if (buffer.size() < bytes || !buffer) buffer = gpu::Buffer(ctx, bytes, gpu::BufferKind::DeviceLocal);
 }
 
 template <typename T>
-void uploadVector(gpu::Context& ctx, gpu::Buffer& buffer, const std::vector<T>& data) {
+std::size_t recordVector(gpu::Context& ctx, gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                         gpu::Buffer& buffer, const std::vector<T>& data) {
   const std::size_t bytes = data.size() * sizeof(T);
   ensure(ctx, buffer, bytes);
-  if (bytes) buffer.upload(data.data(), bytes);
+  staging.upload(batch, buffer, 0, data.data(), bytes);
+  return bytes;
+}
+
+// The listed slots of one atlas array, packed into the staging ring and copied by one command.
+std::size_t recordSlots(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                        const std::vector<std::uint32_t>& atlas, gpu::Buffer& dst,
+                        std::size_t words, std::span<const std::uint32_t> slots) {
+  const std::size_t bytes = words * 4;
+  if (slots.empty()) return 0;
+  const gpu::StagingRing::Reservation r = staging.reserve(slots.size() * bytes);
+  std::vector<VkBufferCopy> regions;
+  regions.reserve(slots.size());
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    std::memcpy(r.data + i * bytes, &atlas[std::size_t(slots[i]) * words], bytes);
+    regions.push_back({r.offset + i * bytes, std::size_t(slots[i]) * bytes, bytes});
+  }
+  batch.copyRegions(*r.buffer, dst, regions);
+  return slots.size() * bytes;
+}
+
+// One blocking round: own batch, one-slot ring, submit and wait.
+template <typename Record>
+auto blocking(gpu::Context& ctx, Record&& record) {
+  gpu::StagingRing staging(ctx, 1);
+  gpu::CommandBatch batch = ctx.beginBatch(0);
+  staging.beginFrame();
+  auto result = record(batch, staging);
+  staging.endFrame(batch.submit());
+  batch.wait();
+  return result;
 }
 }  // namespace
 
-void GpuStackScene::uploadAll(const CascadeStackImage& image) {
+std::size_t GpuStackScene::recordUploadAll(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                                           const CascadeStackImage& image) {
   cascadeCount_ = std::uint32_t(image.params.size());
-  slotCount_ = std::uint32_t(image.distanceAtlas->size() / gpu_shared::kBrickDistanceWords);
-  uploadVector(context_, pageTables_, image.pageTables);
-  uploadVector(context_, params_, image.params);
-  uploadVector(context_, distance_, *image.distanceAtlas);
-  uploadVector(context_, albedo_, *image.albedoAtlas);
-  uploadVector(context_, emission_, *image.emissionAtlas);
+  slotCount_ = std::uint32_t(image.distanceAtlas->size() / kDistWords);
+  std::size_t bytes = recordVector(context_, batch, staging, pageTables_, image.pageTables);
+  bytes += recordVector(context_, batch, staging, params_, image.params);
+  bytes += recordVector(context_, batch, staging, distance_, *image.distanceAtlas);
+  bytes += recordVector(context_, batch, staging, albedo_, *image.albedoAtlas);
+  bytes += recordVector(context_, batch, staging, emission_, *image.emissionAtlas);
+  return bytes;
 }
 
-std::size_t GpuStackScene::sync(const CascadeStack& stack, std::span<const std::uint32_t> dirty) {
+std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                                      const CascadeStack& stack,
+                                      std::span<const std::uint32_t> dirty) {
   const CascadeStackImage img = stack.stackImage();
   cascadeCount_ = std::uint32_t(img.params.size());
-  slotCount_ = std::uint32_t(stack.atlasDistance().size() / gpu_shared::kBrickDistanceWords);
-  ensure(context_, pageTables_, img.pageTables.size() * 4);
-  ensure(context_, params_, img.params.size() * sizeof(gpu_shared::CascadeTraceParams));
+  slotCount_ = std::uint32_t(stack.atlasDistance().size() / kDistWords);
   ensure(context_, distance_, stack.atlasDistance().size() * 4);
   ensure(context_, albedo_, stack.atlasAlbedo().size() * 4);
   ensure(context_, emission_, stack.atlasEmission().size() * 4);
+  std::size_t bytes = recordVector(context_, batch, staging, pageTables_, img.pageTables);
+  bytes += recordVector(context_, batch, staging, params_, img.params);
+  bytes += recordSlots(batch, staging, stack.atlasDistance(), distance_, kDistWords, dirty);
+  bytes += recordSlots(batch, staging, stack.atlasAlbedo(), albedo_, kMatWords, dirty);
+  bytes += recordSlots(batch, staging, stack.atlasEmission(), emission_, kMatWords, dirty);
+  return bytes;
+}
 
-  const std::size_t tableBytes = img.pageTables.size() * 4;
-  const std::size_t paramBytes = img.params.size() * sizeof(gpu_shared::CascadeTraceParams);
-  const std::size_t perSlot = kDistBytes + 2 * kMatBytes;
-  const std::size_t total = tableBytes + paramBytes + dirty.size() * perSlot;
-  if (staging_.size() < total) staging_ = gpu::Buffer(context_, total, gpu::BufferKind::Upload);
-  // Every earlier batch was waited for, so the staging buffer is free to overwrite.
-  auto* base = static_cast<std::uint8_t*>(staging_.mapped());
-  std::memcpy(base, img.pageTables.data(), tableBytes);
-  std::memcpy(base + tableBytes, img.params.data(), paramBytes);
-  gpu::CommandBatch batch = context_.beginBatch();
-  batch.copy(staging_, pageTables_, tableBytes, 0, 0);
-  batch.copy(staging_, params_, paramBytes, tableBytes, 0);
-  std::size_t offset = tableBytes + paramBytes;
-  // One copy per dirty slot and array; slots are sorted, runs of neighbours could be merged
-  // later if the command count ever shows up in the timings.
-  auto copySlot = [&](const std::vector<std::uint32_t>& src, gpu::Buffer& dst, std::size_t words,
-                      std::uint32_t slot) {
-    const std::size_t bytes = words * 4;
-    std::memcpy(base + offset, &src[std::size_t(slot) * words], bytes);
-    batch.copy(staging_, dst, bytes, offset, std::size_t(slot) * bytes);
-    offset += bytes;
-  };
-  for (std::uint32_t slot : dirty) {
-    copySlot(stack.atlasDistance(), distance_, gpu_shared::kBrickDistanceWords, slot);
-    copySlot(stack.atlasAlbedo(), albedo_, gpu_shared::kBrickMaterialCount, slot);
-    copySlot(stack.atlasEmission(), emission_, gpu_shared::kBrickMaterialCount, slot);
-  }
-  batch.submitAndWait();
-  return total;
+void GpuStackScene::uploadAll(const CascadeStackImage& image) {
+  blocking(context_, [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
+    return recordUploadAll(b, s, image);
+  });
+}
+
+std::size_t GpuStackScene::sync(const CascadeStack& stack, std::span<const std::uint32_t> dirty) {
+  return blocking(context_, [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
+    return recordSync(b, s, stack, dirty);
+  });
 }
 
 }  // namespace sdfstream

@@ -8,7 +8,9 @@
 #include <span>
 
 #include "gpu/buffer.h"
+#include "gpu/command_batch.h"
 #include "gpu/context.h"
+#include "gpu/staging_ring.h"
 #include "streaming/cascade_stack.h"
 
 namespace sdfstream {
@@ -17,11 +19,18 @@ class GpuStackScene {
  public:
   explicit GpuStackScene(gpu::Context& context) : context_(context) {}
 
-  // Whole-image upload (tests, analytic scenes, first frame); blocking. Buffers grow as needed.
-  void uploadAll(const CascadeStackImage& image);
+  // Whole-image upload (tests, analytic scenes, first frame), recorded into `batch` through the
+  // staging ring (in its current frame). Buffers grow as needed (contents then start undefined
+  // and are all rewritten here). Returns the bytes uploaded.
+  std::size_t recordUploadAll(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                              const CascadeStackImage& image);
   // Per-frame sync from a streaming stack: page tables, params and the given dirty atlas slots
-  // (CascadeStack::takeDirtySlots). Allocates the atlas on first use. Blocking; returns the
-  // bytes uploaded.
+  // (CascadeStack::takeDirtySlots), recorded the same way (one copy command per array).
+  // Allocates the atlas on first use. Returns the bytes uploaded.
+  std::size_t recordSync(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                         const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots);
+  // The same, blocking (own batch and a one-slot ring): tests and tools.
+  void uploadAll(const CascadeStackImage& image);
   std::size_t sync(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots);
 
   std::uint32_t cascadeCount() const { return cascadeCount_; }
@@ -37,7 +46,6 @@ class GpuStackScene {
   std::uint32_t cascadeCount_ = 0;
   std::uint32_t slotCount_ = 0;
   gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
-  gpu::Buffer staging_;
 };
 
 }  // namespace sdfstream

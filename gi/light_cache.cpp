@@ -16,50 +16,58 @@ LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
       pipeline_(context, gpu::ShaderId::light_cache,
                 gpu::PipelineDesc{kBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
       radiance_(context, 4, gpu::BufferKind::DeviceLocal),
-      pageList_(context, 4096 * sizeof(std::uint32_t), gpu::BufferKind::Upload),
+      pageList_(context, 4096 * sizeof(std::uint32_t), gpu::BufferKind::DeviceLocal),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
-              gpu::BufferKind::Upload),
+              gpu::BufferKind::DeviceLocal),
       noObjects_(context) {
   const std::uint32_t zero = 0;
   radiance_.upload(&zero, sizeof zero);
 }
 
-void LightCache::grow(std::size_t materialVoxels) {
+void LightCache::grow(gpu::CommandBatch& batch, std::size_t materialVoxels) {
   if (materialVoxels <= materialVoxels_) return;
   gpu::Buffer bigger(context_, materialVoxels * sizeof(std::uint32_t),
                      gpu::BufferKind::DeviceLocal);
-  gpu::CommandBatch batch = context_.beginBatch(0);
   batch.fill(bigger, 0u);
   // Slots already lit keep their light: the atlas grew, the scene did not change.
   if (materialVoxels_ > 0) batch.copy(radiance_, bigger, materialVoxels_ * sizeof(std::uint32_t));
-  batch.submitAndWait();
-  radiance_ = std::move(bigger);  // the old buffer is destroyed late (deferred destruction)
+  radiance_ = std::move(bigger);  // the old one outlives the batch (deferred destruction)
   materialVoxels_ = materialVoxels;
 }
 
 void LightCache::update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
                         const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
                         double voxelSize0, const ObjectScene* objects) {
+  gpu::StagingRing staging(context_, 1);
+  gpu::CommandBatch batch = context_.beginBatch(1);
+  staging.beginFrame();
+  record(batch, staging, scene, lights, sky, dirtyPages, voxelSize0, objects);
+  staging.endFrame(batch.submit());
+  batch.wait();
+  timings_ = batch.timings();
+}
+
+void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                        const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
+                        const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
+                        double voxelSize0, const ObjectScene* objects) {
   assert(lights.size() <= gpu_shared::kMaxLights);
   assert(dirtyPages.size() <= 65535 &&
          "one page per workgroup row; lightDirtyPages gives <= 32768");
-  grow(std::size_t(scene.slotCount()) * gpu_shared::kBrickMaterialCount);
+  grow(batch, std::size_t(scene.slotCount()) * gpu_shared::kBrickMaterialCount);
   pagesRelit_ = 0;
   timings_.clear();
   if (dirtyPages.empty() || scene.cascadeCount() == 0) return;  // skip what is not needed
   pagesRelit_ = std::uint32_t(dirtyPages.size());
 
-  const std::size_t listBytes = dirtyPages.size_bytes();
-  if (pageList_.size() < listBytes)
-    pageList_ = gpu::Buffer(context_, listBytes, gpu::BufferKind::Upload);
-  // update() waits for its batch, so the host-visible buffers are free to rewrite.
-  std::memcpy(pageList_.mapped(), dirtyPages.data(), listBytes);
-  if (!lights.empty()) std::memcpy(lights_.mapped(), lights.data(), lights.size_bytes());
+  if (pageList_.size() < dirtyPages.size_bytes())
+    pageList_ = gpu::Buffer(context_, dirtyPages.size_bytes(), gpu::BufferKind::DeviceLocal);
+  staging.upload(batch, pageList_, dirtyPages);
+  staging.upload(batch, lights_, lights);
 
   const gpu_shared::LightCachePushConstants pc =
       lightCachePushConstants(settings_, std::uint32_t(dirtyPages.size()),
                               std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
-  gpu::CommandBatch batch = context_.beginBatch(1);
   // x: the 512 cells of a page (8 groups), y: the listed pages (at most 8 × 4096 < 65535).
   std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
                                           &scene.pageTables(), &scene.distance(), &scene.albedo(),
@@ -68,8 +76,6 @@ void LightCache::update(const GpuStackScene& scene, std::span<const gpu_shared::
     bufs.push_back(o);
   batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
                  glm::uvec3(gpu_shared::kBrickMaterialCount, std::uint32_t(dirtyPages.size()), 1));
-  batch.submitAndWait();
-  timings_ = batch.timings();
 }
 
 std::vector<std::uint32_t> LightCache::downloadRadiance() const {

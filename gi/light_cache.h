@@ -27,6 +27,8 @@
 
 namespace sdfstream {
 
+class GiSystem;
+
 struct LightCacheSettings {
   std::uint32_t maxShadowSteps = 128;  // sphere-tracing steps per shadow ray, over all cascades
   float hitEpsilon = 0.02f;            // voxels: a sample below this blocks the light
@@ -99,6 +101,12 @@ class LightCache {
   void update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
               const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
               double voxelSize0, const ObjectScene* objects = nullptr);
+  // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
+  // pass is named "light_cache" in the batch's timings. lastTimings() is not updated.
+  void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const GpuStackScene& scene,
+              std::span<const gpu_shared::GpuLight> lights, const gpu_shared::GpuSky& sky,
+              std::span<const std::uint32_t> dirtyPages, double voxelSize0,
+              const ObjectScene* objects = nullptr);
 
   // Device-local light atlas: one RGB9E5 uint per material voxel, zero-filled on creation/growth.
   const gpu::Buffer& radianceBuffer() const { return radiance_; }
@@ -112,16 +120,17 @@ class LightCache {
   const LightCacheSettings& settings() const { return settings_; }
 
  private:
-  void grow(std::size_t materialVoxels);
+  void grow(gpu::CommandBatch& batch, std::size_t materialVoxels);
 
   gpu::Context& context_;
   LightCacheSettings settings_;
   gpu::ComputePipeline pipeline_;
   gpu::Buffer radiance_;  // device-local light atlas
-  gpu::Buffer pageList_;  // upload, grown on demand
-  gpu::Buffer lights_;    // upload, kMaxLights GpuLight
+  gpu::Buffer pageList_;  // device-local, grown on demand; written through the staging ring
+  gpu::Buffer lights_;    // device-local, kMaxLights GpuLight; written through the staging ring
   NoObjectsBindings noObjects_;
   std::size_t materialVoxels_ = 0;
+  friend class GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_;
   std::uint32_t pagesRelit_ = 0;
 };

@@ -30,18 +30,20 @@ ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
       tracePipeline_(context, gpu::ShaderId::object_trace,
                      gpu::PipelineDesc{8, sizeof(gs::ObjectTracePush), kGroup}),
       meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
-            gpu::BufferKind::Upload),
-      instances_(context, sizeof(gs::ObjectInstanceGpu), gpu::BufferKind::Upload),
+            gpu::BufferKind::DeviceLocal),
+      instances_(context, sizeof(gs::ObjectInstanceGpu), gpu::BufferKind::DeviceLocal),
       regions_(context, sizeof(gs::ObjectRegionGpu), gpu::BufferKind::DeviceLocal),
-      regionsInit_(context, sizeof(gs::ObjectRegionGpu), gpu::BufferKind::Upload),
       lists_(context, 4, gpu::BufferKind::DeviceLocal),
       distance_(context, 4, gpu::BufferKind::DeviceLocal),
       material_(context, 8, gpu::BufferKind::DeviceLocal) {
   // Inactive until the first update: the meta buffer must still read as "no instances".
-  std::memset(meta_.mapped(), 0, meta_.size());
+  gpu::CommandBatch batch = context.beginBatch(0);
+  batch.fill(meta_, 0u);
+  batch.submitAndWait();
 }
 
-void ObjectScene::uploadAtlas(const ObjectLibrary& library) {
+void ObjectScene::recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                              const ObjectLibrary& library) {
   ObjectAtlasData atlas = buildObjectAtlas(library);
   meshes_ = std::move(atlas.meshes);
   const std::size_t distBytes = atlas.distance.size() * sizeof(float);
@@ -50,44 +52,48 @@ void ObjectScene::uploadAtlas(const ObjectLibrary& library) {
       gpu::Buffer(context_, std::max<std::size_t>(distBytes, 4), gpu::BufferKind::DeviceLocal);
   material_ =
       gpu::Buffer(context_, std::max<std::size_t>(matBytes, 8), gpu::BufferKind::DeviceLocal);
-  if (distBytes > 0) distance_.upload(atlas.distance.data(), distBytes);
-  if (matBytes > 0) material_.upload(atlas.material.data(), matBytes);
+  staging.upload(batch, distance_, 0, atlas.distance.data(), distBytes);
+  staging.upload(batch, material_, 0, atlas.material.data(), matBytes);
   atlasVersion_ = library.version();
 }
 
 void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instances,
                          const CascadeStackImage& stack) {
-  if (library.version() != atlasVersion_) uploadAtlas(library);
+  gpu::StagingRing staging(context_, 1);
+  gpu::CommandBatch batch = context_.beginBatch(3);
+  staging.beginFrame();
+  record(batch, staging, library, instances, stack);
+  staging.endFrame(batch.submit());
+  batch.wait();
+  timings_ = batch.timings();
+}
+
+void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                         const ObjectLibrary& library, const InstanceSet& instances,
+                         const CascadeStackImage& stack) {
+  if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
   frame_ = buildObjectFrame(library, instances, stack, settings_);
   timings_.clear();
 
-  // The host writes meta and instances directly (update() blocks, so the GPU is idle here).
   const std::size_t metaBytes =
       sizeof(gs::ObjectFrameGpu) + meshes_.size() * sizeof(gs::ObjectMeshGpu);
-  ensure(context_, meta_, metaBytes, gpu::BufferKind::Upload);
-  std::memcpy(meta_.mapped(), &frame_.frame, sizeof(gs::ObjectFrameGpu));
-  if (!meshes_.empty())
-    std::memcpy(static_cast<char*>(meta_.mapped()) + sizeof(gs::ObjectFrameGpu), meshes_.data(),
-                meshes_.size() * sizeof(gs::ObjectMeshGpu));
+  ensure(context_, meta_, metaBytes, gpu::BufferKind::DeviceLocal);
+  staging.upload(batch, meta_, 0, &frame_.frame, sizeof(gs::ObjectFrameGpu));
+  staging.upload(batch, meta_, sizeof(gs::ObjectFrameGpu), meshes_.data(),
+                 meshes_.size() * sizeof(gs::ObjectMeshGpu));
   if (!active()) return;  // nothing to list: no pass at all
 
   const std::size_t instBytes = frame_.instances.size() * sizeof(gs::ObjectInstanceGpu);
-  ensure(context_, instances_, instBytes, gpu::BufferKind::Upload);
-  if (instBytes > 0) std::memcpy(instances_.mapped(), frame_.instances.data(), instBytes);
+  ensure(context_, instances_, instBytes, gpu::BufferKind::DeviceLocal);
+  staging.upload(batch, instances_, 0, frame_.instances.data(), instBytes);
   const std::size_t regionBytes = frame_.regions.size() * sizeof(gs::ObjectRegionGpu);
-  ensure(context_, regionsInit_, regionBytes, gpu::BufferKind::Upload);
   ensure(context_, regions_, regionBytes, gpu::BufferKind::DeviceLocal);
-  std::memcpy(regionsInit_.mapped(), frame_.regions.data(), regionBytes);
+  staging.upload(batch, regions_, 0, frame_.regions.data(), regionBytes);
   ensure(context_, lists_, std::size_t(frame_.listCapacity) * 4, gpu::BufferKind::DeviceLocal);
 
   const std::uint32_t n = frame_.frame.counts.x, cascades = frame_.frame.counts.y;
+  if (n == 0) return;  // only removals: the moved flags, no lists to build
   const auto bufs = buffers();
-  gpu::CommandBatch batch = context_.beginBatch(3);
-  batch.copy(regionsInit_, regions_, regionBytes);
-  if (n == 0) {  // only removals: the moved flags, no lists to build
-    batch.submitAndWait();
-    return;
-  }
   gs::ObjectRegionPush push{0u, n, cascades, frame_.listCapacity};
   batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(64u * n, cascades, 1u));
@@ -97,8 +103,6 @@ void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instan
   push.phase = 2u;
   batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(64u * n, cascades, 1u));
-  batch.submitAndWait();
-  timings_ = batch.timings();
 }
 
 std::vector<gs::ObjectTraceHit> ObjectScene::trace(std::span<const gs::TraceRay> rays,
@@ -134,7 +138,7 @@ std::vector<std::uint32_t> ObjectScene::downloadLists() const {
 }
 
 std::size_t ObjectScene::deviceBytes() const {
-  return meta_.size() + instances_.size() + regions_.size() + regionsInit_.size() + lists_.size() +
+  return meta_.size() + instances_.size() + regions_.size() + lists_.size() +
          distance_.size() + material_.size();
 }
 

@@ -16,8 +16,11 @@
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
+#include "gpu/staging_ring.h"
 
 namespace sdfstream {
+
+class GiSystem;
 
 // What passes that can trace objects bind when a frame has none: a zeroed meta buffer (zero
 // instances, so the shaders read nothing else) and a tiny buffer for the other five bindings.
@@ -41,6 +44,10 @@ class ObjectScene {
   // Call once per frame before the passes that trace objects, then instances.endFrame().
   void update(const ObjectLibrary& library, const InstanceSet& instances,
               const CascadeStackImage& stack);
+  // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
+  // passes are named "object_regions_*" in the batch's timings. lastTimings() is not updated.
+  void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const ObjectLibrary& library,
+              const InstanceSet& instances, const CascadeStackImage& stack);
 
   // Something to bind this frame: instances, or regions where an instance was just removed (the
   // probes there must still wake up). False: passes bind NoObjectsBindings instead.
@@ -70,16 +77,20 @@ class ObjectScene {
   std::size_t deviceBytes() const;
 
  private:
-  void uploadAtlas(const ObjectLibrary& library);
+  void recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                   const ObjectLibrary& library);
 
   gpu::Context& context_;
   ObjectSceneSettings settings_;
   gpu::ComputePipeline regionsPipeline_, tracePipeline_;
-  gpu::Buffer meta_, instances_, regions_, regionsInit_, lists_, distance_, material_;
+  // Device-local; meta, instances and the regions' initial state are written every frame
+  // through the staging ring.
+  gpu::Buffer meta_, instances_, regions_, lists_, distance_, material_;
   gpu::Buffer rays_, hits_;
   std::uint64_t atlasVersion_ = ~std::uint64_t(0);
   std::vector<gpu_shared::ObjectMeshGpu> meshes_;
   ObjectFrameData frame_;
+  friend class GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_, traceTimings_;
 };
 

@@ -1,6 +1,7 @@
 #include "gi/probe_field.h"
 
 #include <cstring>
+#include <utility>
 
 namespace sdfstream::probe {
 namespace {
@@ -24,10 +25,6 @@ glm::uvec3 spread(std::uint32_t threads) {
   return {kRow, (threads + kRow - 1) / kRow, 1};
 }
 
-template <typename T>
-void writeMapped(gpu::Buffer& buffer, const std::vector<T>& data) {
-  std::memcpy(buffer.mapped(), data.data(), data.size() * sizeof(T));
-}
 }  // namespace
 
 ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings,
@@ -42,19 +39,18 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       trace_(pipeline(context, gpu::ShaderId::probe_trace)),
       blend_(pipeline(context, gpu::ShaderId::probe_blend)),
       sample_(pipeline(context, gpu::ShaderId::probe_sample)),
-      frame_(context, sizeof(gpu_shared::ProbeFrame), gpu::BufferKind::Upload),
-      volumes_(context, cascades * sizeof(gpu_shared::ProbeVolume), gpu::BufferKind::Upload),
+      frame_(deviceBuffer(context, sizeof(gpu_shared::ProbeFrame))),
+      volumes_(deviceBuffer(context, cascades * sizeof(gpu_shared::ProbeVolume))),
       data_(deviceBuffer(context, sizes_.probes * 16)),
       history_(deviceBuffer(context, sizes_.probes * 16)),
       irradiance_(deviceBuffer(context, sizes_.irradianceTexels * 16)),
       depth_(deviceBuffer(context, sizes_.depthTexels * 8)),
       rays_(deviceBuffer(context, sizes_.rays * 16)),
       cache_(deviceBuffer(context, sizes_.cacheEntries * 8)),
-      rotations_(context, 3 * std::max(1u, settings.cacheRotations) * 16, gpu::BufferKind::Upload),
+      rotations_(deviceBuffer(context, 3 * std::max(1u, settings.cacheRotations) * 16)),
       list_(deviceBuffer(context, std::size_t(settings.listCapacity(cascades)) * 4)),
       statsBuffer_(deviceBuffer(context, gpu_shared::kProbeStatCount * 4)),
-      pageChanged_(context, std::size_t(cascades) * 128 * 4, gpu::BufferKind::Upload),
-      statsReadback_(context, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback),
+      pageChanged_(deviceBuffer(context, std::size_t(cascades) * 128 * 4)),
       queries_(context, sizeof(gpu_shared::ProbeQuery), gpu::BufferKind::Upload),
       results_(context, 16, gpu::BufferKind::Readback),
       dispatchArgs_(deviceBuffer(context, 9 * 4)),
@@ -87,6 +83,20 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
 void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& image,
                         const gpu::Buffer& light, const ProbeFrameInputs& inputs,
                         std::uint64_t frame) {
+  gpu::StagingRing staging(context_, 1);
+  gpu::CommandBatch batch = context_.beginBatch();
+  staging.beginFrame();
+  record(batch, staging, scene, image, light, inputs, frame);
+  staging.endFrame(batch.submit());
+  batch.wait();
+  timings_ = batch.timings();
+  stats_ = readStats(0);
+}
+
+void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                        const GpuStackScene& scene, const CascadeStackImage& image,
+                        const gpu::Buffer& light, const ProbeFrameInputs& inputs,
+                        std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
@@ -94,11 +104,12 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
     if (objects_->settings().naiveTraversal)
       lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjectsNaive;
   }
-  // The previous update was waited for: the host-visible inputs are free to rewrite.
-  std::memcpy(frame_.mapped(), &lastFrame_.constants, sizeof lastFrame_.constants);
-  writeMapped(volumes_, lastFrame_.volumes);
-  writeMapped(rotations_, lastFrame_.rotations);
-  writeMapped(pageChanged_, lastFrame_.pageChanged);
+  staging.upload(batch, frame_, 0, &lastFrame_.constants, sizeof lastFrame_.constants);
+  staging.upload(batch, volumes_, std::span(std::as_const(lastFrame_.volumes)));
+  staging.upload(batch, rotations_, std::span(std::as_const(lastFrame_.rotations)));
+  staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
+  while (statsReadback_.size() < staging.framesInFlight())
+    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback);
 
   const std::vector<const gpu::Buffer*> b = bindings(scene, light);
   const std::uint32_t probes = std::uint32_t(sizes_.probes);
@@ -118,7 +129,6 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   const ProbePushConstants border =
       push(gpu_shared::kProbeBlendModeBorder, capacity * gpu_shared::kProbeTileTexelsPerProbe);
 
-  gpu::CommandBatch batch = context_.beginBatch();
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
   batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));
@@ -128,12 +138,13 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
   batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
   batch.dispatchIndirect("probe_border", blend_, b, &border, sizeof border, dispatchArgs_, 24);
-  batch.copy(statsBuffer_, statsReadback_, gpu_shared::kProbeStatCount * 4);
-  batch.submitAndWait();
-  timings_ = batch.timings();
+  batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);
+}
+
+ProbeFieldStats ProbeField::readStats(std::uint32_t slot) const {
   std::vector<std::uint32_t> raw(gpu_shared::kProbeStatCount);
-  std::memcpy(raw.data(), statsReadback_.mapped(), raw.size() * 4);
-  stats_ = decodeStats(raw);
+  std::memcpy(raw.data(), statsReadback_.at(slot).mapped(), raw.size() * 4);
+  return decodeStats(raw);
 }
 
 std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu::Buffer& light,

@@ -8,6 +8,7 @@
 // shaders/probe_field.glsl; gi/probe_field_cpu.h is the CPU reference of the same passes.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -19,6 +20,11 @@
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
+#include "gpu/staging_ring.h"
+
+namespace sdfstream {
+class GiSystem;
+}
 
 namespace sdfstream::probe {
 
@@ -32,6 +38,15 @@ class ProbeField {
   void update(const GpuStackScene& scene, const CascadeStackImage& image,
               const gpu::Buffer& lightRadiance, const ProbeFrameInputs& inputs,
               std::uint64_t frame);
+  // The same recorded into `batch` (uploads through `staging`'s current frame), no wait. The
+  // frame statistics are copied into the readback slot staging.currentSlot(); read them with
+  // readStats(slot) once the batch has completed. lastStats()/lastTimings() are not updated.
+  void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const GpuStackScene& scene,
+              const CascadeStackImage& image, const gpu::Buffer& lightRadiance,
+              const ProbeFrameInputs& inputs, std::uint64_t frame);
+  // Statistics of the frame recorded in readback slot `slot`. Precondition: that frame's batch
+  // has completed (CommandBatch::completed); never waits.
+  ProbeFieldStats readStats(std::uint32_t slot) const;
   void reset();
   // Moving objects the next updates trace and classify against (issue 7), or none (nullptr):
   // the object scene must be updated for the same stack before each update() and outlive it.
@@ -41,6 +56,11 @@ class ProbeField {
   std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
                                 std::span<const gpu_shared::ProbeQuery> queries);
 
+  // The probe buffers an engine's shader samples (sdfstream/probe_sample.glsl, bindings 0-4):
+  // frame constants, volumes, probe data, irradiance, depth.
+  std::array<const gpu::Buffer*, 5> sampleBuffers() const {
+    return {&frame_, &volumes_, &data_, &irradiance_, &depth_};
+  }
   const ProbeFieldSettings& settings() const { return settings_; }
   const ProbeFieldStats& lastStats() const { return stats_; }
   // GPU time per pass of the last update() or sample(): probe_classify, probe_select_count,
@@ -65,14 +85,18 @@ class ProbeField {
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
   gpu::ComputePipeline classify_, select_, trace_, blend_, sample_;
+  // frame_, volumes_, rotations_ and pageChanged_ are written every frame through the staging
+  // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
-      list_, statsBuffer_, pageChanged_, statsReadback_;
+      list_, statsBuffer_, pageChanged_;
+  std::vector<gpu::Buffer> statsReadback_;
   gpu::Buffer queries_, results_;
   gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   const ObjectScene* objects_ = nullptr;
   NoObjectsBindings noObjects_;  // bound at 22-27 when there are no objects
   ProbeFieldStats stats_;
+  friend class ::sdfstream::GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_;
 };
 

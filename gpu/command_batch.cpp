@@ -38,28 +38,52 @@ std::uint32_t groups(std::uint32_t threads, std::uint32_t size) {
 
 CommandBatch::CommandBatch(Context& ctx, std::uint32_t maxPasses)
     : ctx_(&ctx), maxPasses_(maxPasses) {
-  VkDevice device = ctx.device();
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   alloc.commandPool = ctx.commandPool();
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = 1;
-  SDFSTREAM_VK(vkAllocateCommandBuffers(device, &alloc, &commandBuffer_));
-  if (maxPasses > 0 && ctx.timestampsSupported()) {
-    VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
-    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    info.queryCount = 2 * maxPasses;
-    if (vkCreateQueryPool(device, &info, nullptr, &queryPool_) != VK_SUCCESS) {
-      vkFreeCommandBuffers(device, ctx.commandPool(), 1, &commandBuffer_);
-      SDFSTREAM_VK(VK_ERROR_OUT_OF_HOST_MEMORY);
-    }
+  SDFSTREAM_VK(vkAllocateCommandBuffers(ctx.device(), &alloc, &commandBuffer_));
+  try {
+    createQueryPool();
+  } catch (...) {
+    vkFreeCommandBuffers(ctx.device(), ctx.commandPool(), 1, &commandBuffer_);
+    throw;
   }
   VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   SDFSTREAM_VK(vkBeginCommandBuffer(commandBuffer_, &begin));
-  if (queryPool_) vkCmdResetQueryPool(commandBuffer_, queryPool_, 0, 2 * maxPasses);
-  // Earlier submissions on this queue are ordered before us but their writes are not yet
-  // visible to us: make them so.
-  memoryBarrier(commandBuffer_, kWorkStages, kWrites, kWorkStages, kReadsWrites);
+  beginRecording();
+}
+
+CommandBatch::CommandBatch(Context& ctx, VkCommandBuffer callerCommandBuffer,
+                           std::uint32_t maxPasses)
+    : ctx_(&ctx), commandBuffer_(callerCommandBuffer), maxPasses_(maxPasses),
+      ownsCommandBuffer_(false) {
+  SDFSTREAM_GPU_CHECK(callerCommandBuffer != VK_NULL_HANDLE, "recordInto a null command buffer");
+  createQueryPool();
+  beginRecording();
+}
+
+void CommandBatch::createQueryPool() {
+  if (maxPasses_ == 0 || !ctx_->timestampsSupported()) return;
+  VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  info.queryCount = 2 * maxPasses_;
+  SDFSTREAM_VK(vkCreateQueryPool(ctx_->device(), &info, nullptr, &queryPool_));
+}
+
+void CommandBatch::beginRecording() {
+  ++ctx_->openBatches_;
+  if (queryPool_) vkCmdResetQueryPool(commandBuffer_, queryPool_, 0, 2 * maxPasses_);
+  // Earlier submissions on this queue (or the caller's earlier commands) are ordered before us
+  // but their writes are not yet visible to us: make them so.
+  memoryBarrier(commandBuffer_, kWorkStages | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                kWrites | VK_ACCESS_MEMORY_WRITE_BIT, kWorkStages, kReadsWrites);
+}
+
+// The batch stops counting as recording (Context::deferDestroy tags with it no longer).
+void CommandBatch::closeRecording() {
+  if (ctx_ && ctx_->openBatches_ > 0) --ctx_->openBatches_;
 }
 
 CommandBatch::~CommandBatch() { release(); }
@@ -72,7 +96,8 @@ CommandBatch::CommandBatch(CommandBatch&& other) noexcept
       passNames_(std::move(other.passNames_)),
       hasCommands_(other.hasCommands_),
       submission_(other.submission_),
-      waited_(other.waited_) {}
+      waited_(other.waited_),
+      ownsCommandBuffer_(other.ownsCommandBuffer_) {}
 
 CommandBatch& CommandBatch::operator=(CommandBatch&& other) noexcept {
   if (this != &other) {
@@ -85,18 +110,21 @@ CommandBatch& CommandBatch::operator=(CommandBatch&& other) noexcept {
     hasCommands_ = other.hasCommands_;
     submission_ = other.submission_;
     waited_ = other.waited_;
+    ownsCommandBuffer_ = other.ownsCommandBuffer_;
   }
   return *this;
 }
 
 void CommandBatch::release() {
-  if (!commandBuffer_) return;
-  // Never submitted: still in the recording state, which vkFreeCommandBuffers accepts.
-  ctx_->deferDestroy(
-      [device = ctx_->device(), pool = ctx_->commandPool(), cb = commandBuffer_, qp = queryPool_] {
-        vkFreeCommandBuffers(device, pool, 1, &cb);
-        if (qp) vkDestroyQueryPool(device, qp, nullptr);
-      });
+  if (!ctx_ || (!commandBuffer_ && !queryPool_)) return;
+  if (!submitted()) closeRecording();
+  // Never submitted: still in the recording state, which vkFreeCommandBuffers accepts. The
+  // caller's command buffer is the caller's to free.
+  ctx_->deferDestroy([device = ctx_->device(), pool = ctx_->commandPool(),
+                      cb = ownsCommandBuffer_ ? commandBuffer_ : VK_NULL_HANDLE, qp = queryPool_] {
+    if (cb) vkFreeCommandBuffers(device, pool, 1, &cb);
+    if (qp) vkDestroyQueryPool(device, qp, nullptr);
+  });
   commandBuffer_ = VK_NULL_HANDLE;
   queryPool_ = VK_NULL_HANDLE;
 }
@@ -200,6 +228,24 @@ void CommandBatch::copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::
   vkCmdCopyBuffer(commandBuffer_, src.handle(), dst.handle(), 1, &region);
 }
 
+void CommandBatch::copyRegions(const Buffer& src, Buffer& dst,
+                               std::span<const VkBufferCopy> regions) {
+  SDFSTREAM_GPU_CHECK(src && dst && src.handle() != dst.handle(),
+                      "copyRegions needs two distinct buffers");
+  std::vector<VkBufferCopy> used;
+  used.reserve(regions.size());
+  for (const VkBufferCopy& r : regions) {
+    SDFSTREAM_GPU_CHECK(r.srcOffset <= src.size() && r.size <= src.size() - r.srcOffset &&
+                            r.dstOffset <= dst.size() && r.size <= dst.size() - r.dstOffset,
+                        "copyRegions range outside a buffer");
+    if (r.size > 0) used.push_back(r);
+  }
+  if (used.empty()) return;
+  beforeCommand();
+  vkCmdCopyBuffer(commandBuffer_, src.handle(), dst.handle(), std::uint32_t(used.size()),
+                  used.data());
+}
+
 void CommandBatch::fill(Buffer& dst, std::uint32_t value) {
   SDFSTREAM_GPU_CHECK(dst, "fill of an empty buffer");
   beforeCommand();
@@ -208,12 +254,32 @@ void CommandBatch::fill(Buffer& dst, std::uint32_t value) {
 
 std::uint64_t CommandBatch::submit() {
   SDFSTREAM_GPU_CHECK(commandBuffer_ && !submitted(), "batch submitted twice");
+  SDFSTREAM_GPU_CHECK(ownsCommandBuffer_,
+                      "submit() of a batch recording into the caller's command buffer: finish()");
+  closeRecording();
   // Make this batch's writes visible to the host once wait() returns (readback buffers).
   memoryBarrier(commandBuffer_, kWorkStages, kWrites, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
   SDFSTREAM_VK(vkEndCommandBuffer(commandBuffer_));
   submission_ = ctx_->submit(commandBuffer_);
   return submission_;
+}
+
+SubmitSignal CommandBatch::finish() {
+  SDFSTREAM_GPU_CHECK(commandBuffer_ && !submitted(), "batch finished twice");
+  SDFSTREAM_GPU_CHECK(!ownsCommandBuffer_, "finish() of an own batch: submit()");
+  // The caller's later commands (its shading, any stage) and the host read what we wrote.
+  memoryBarrier(commandBuffer_, kWorkStages, kWrites,
+                VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT | VK_ACCESS_HOST_READ_BIT);
+  closeRecording();
+  const SubmitSignal signal = ctx_->reserveSubmission();
+  submission_ = signal.value;
+  return signal;
+}
+
+bool CommandBatch::completed() const {
+  return submitted() && (waited_ || ctx_->completedSubmission() >= submission_);
 }
 
 void CommandBatch::wait() {
@@ -223,7 +289,7 @@ void CommandBatch::wait() {
 }
 
 std::vector<PassTiming> CommandBatch::timings() const {
-  SDFSTREAM_GPU_CHECK(waited_, "timings() before wait()");
+  SDFSTREAM_GPU_CHECK(completed(), "timings() before the batch completed");
   std::vector<PassTiming> out;
   out.reserve(passNames_.size());
   std::vector<std::uint64_t> ticks(2 * passNames_.size());

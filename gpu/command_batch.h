@@ -16,6 +16,13 @@
 // Buffers and pipelines used by a batch must stay alive until it is submitted; after that they
 // may be destroyed at any time (deferred destruction keeps them until the batch has finished).
 //
+// Two modes. An own batch (Context::beginBatch) allocates its command buffer and is submitted by
+// submit(). A recording batch (Context::recordInto) records into the caller's command buffer;
+// finish() closes it with a barrier making its writes visible to the caller's later commands
+// (any stage) and to the host, and returns the timeline signal the caller's vkQueueSubmit must
+// carry. Either way the batch's timestamps are read once its submission has completed
+// (completed(), never blocking) or after wait().
+//
 // Move-only. Thread safety: as for the Context.
 #pragma once
 
@@ -36,6 +43,7 @@ namespace sdfstream::gpu {
 class Buffer;
 class ComputePipeline;
 class Context;
+struct SubmitSignal;
 
 struct PassTiming {
   std::string name;     // as given to dispatch()
@@ -79,11 +87,22 @@ class CommandBatch {
   // (abort): both ranges inside their buffers; the two buffers differ.
   void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t srcOffset = 0,
             std::size_t dstOffset = 0);
+  // Several copies from src to dst in one command (one barrier before it, none between them):
+  // the regions' destination ranges must not overlap. Checked like copy(); empty regions skipped.
+  void copyRegions(const Buffer& src, Buffer& dst, std::span<const VkBufferCopy> regions);
   // Sets every 32-bit word of `dst` to `value`.
   void fill(Buffer& dst, std::uint32_t value);
 
-  // Ends recording and submits; returns the submission index (Context::wait). Once only.
+  // Ends recording and submits; returns the submission index (Context::wait). Once only; own
+  // batches only.
   std::uint64_t submit();
+  // Closes a recording batch (recordInto) without ending the caller's command buffer; returns
+  // what the caller's submission of it must signal. Once only; recording batches only.
+  SubmitSignal finish();
+  bool recordsIntoCaller() const { return !ownsCommandBuffer_; }
+  // Submitted (or finished) and completed on the GPU; never blocks.
+  bool completed() const;
+  std::uint64_t submission() const { return submission_; }
   // Blocks until this batch has finished. Precondition: submitted.
   void wait();
   void submitAndWait() {
@@ -92,12 +111,17 @@ class CommandBatch {
   }
   bool submitted() const { return submission_ != 0; }
 
-  // One entry per dispatch, in recording order. Precondition (checked): wait() has returned.
+  // One entry per dispatch, in recording order. Precondition (checked): wait() has returned or
+  // completed() is true.
   std::vector<PassTiming> timings() const;
 
  private:
   friend class Context;
   CommandBatch(Context& ctx, std::uint32_t maxPasses);
+  CommandBatch(Context& ctx, VkCommandBuffer callerCommandBuffer, std::uint32_t maxPasses);
+  void createQueryPool();
+  void beginRecording();
+  void closeRecording();
   void beforeCommand();
   // Binds, pushes, times and labels one pass; `issue` records the dispatch command itself.
   void recordPass(std::string_view name, const ComputePipeline& pipeline,
@@ -113,6 +137,7 @@ class CommandBatch {
   bool hasCommands_ = false;  // a barrier is needed before the next command
   std::uint64_t submission_ = 0;
   bool waited_ = false;
+  bool ownsCommandBuffer_ = true;
 };
 
 }  // namespace sdfstream::gpu

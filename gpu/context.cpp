@@ -1,6 +1,7 @@
-// Context, part 2: device choice, logical device, and the submission timeline.
+// Context, part 2: device choice or adoption, the logical device, and the submission timeline.
 #include "gpu/context.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 
 #include "gpu/check.h"
 #include "gpu/command_batch.h"
+#include "gpu/device_requirements.h"
 #include "gpu/device_select.h"
 
 namespace sdfstream::gpu {
@@ -18,48 +20,18 @@ bool envFlag(const char* name) {
   return v && *v && std::strcmp(v, "0") != 0;
 }
 
-bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
-  std::uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
-  std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
-  for (const auto& e : extensions)
-    if (std::strcmp(e.extensionName, name) == 0) return true;
-  return false;
-}
-
-// The family to submit compute work to: the first with compute, preferring one with timestamps.
-// nullopt-like UINT32_MAX when there is none.
-std::uint32_t findComputeFamily(VkPhysicalDevice device, std::uint32_t* timestampBits) {
-  std::uint32_t count = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
-  std::vector<VkQueueFamilyProperties> families(count);
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-  std::uint32_t chosen = UINT32_MAX;
-  for (std::uint32_t i = 0; i < count; ++i) {
-    if (!(families[i].queueFlags & VK_QUEUE_COMPUTE_BIT)) continue;
-    if (chosen == UINT32_MAX ||
-        (families[chosen].timestampValidBits == 0 && families[i].timestampValidBits != 0))
-      chosen = i;
-  }
-  if (chosen != UINT32_MAX && timestampBits) *timestampBits = families[chosen].timestampValidBits;
-  return chosen;
-}
-
-std::string unsuitableReason(VkPhysicalDevice device, const VkPhysicalDeviceProperties& props) {
-  if (props.apiVersion < VK_API_VERSION_1_2) return "needs Vulkan 1.2";
-  if (!hasDeviceExtension(device, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
-    return "lacks " VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME;
-  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &f12;
-  vkGetPhysicalDeviceFeatures2(device, &f2);
-  if (!f12.timelineSemaphore) return "lacks timeline semaphores";
-  if (findComputeFamily(device, nullptr) == UINT32_MAX) return "has no compute queue";
-  return {};
+std::string joined(const std::vector<std::string>& parts) {
+  std::string out;
+  for (const std::string& p : parts) out += (out.empty() ? "" : "; ") + p;
+  return out;
 }
 
 }  // namespace
+
+std::span<const char* const> Context::requiredDeviceExtensions() { return requiredExtensions(); }
+VkPhysicalDeviceVulkan12Features Context::requiredVulkan12Features() {
+  return requiredFeatures12();
+}
 
 std::unique_ptr<Context> Context::create(const ContextOptions& options) {
   std::unique_ptr<Context> ctx(new Context());  // private constructor: no make_unique
@@ -75,6 +47,42 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
   return ctx;
 }
 
+std::unique_ptr<Context> Context::adopt(const AdoptedDevice& engine, const ContextOptions& options) {
+  if (!engine.instance || !engine.physicalDevice || !engine.device)
+    throw std::runtime_error("sdfstream: Context::adopt needs the engine's VkInstance, "
+                             "VkPhysicalDevice and VkDevice (one of them is null)");
+  const EnabledDeviceState enabled{engine.enabledDeviceExtensions,
+                                   &engine.enabledVulkan12Features};
+  std::vector<std::string> missing = missingRequirements(engine.physicalDevice, &enabled);
+  const VkQueueFamilyProperties family =
+      queueFamilyProperties(engine.physicalDevice, engine.queueFamily);
+  if (!(family.queueFlags & VK_QUEUE_COMPUTE_BIT))
+    missing.push_back("compute on queue family " + std::to_string(engine.queueFamily));
+  else if (engine.queueIndex >= family.queueCount)
+    missing.push_back("queue " + std::to_string(engine.queueIndex) + " of family " +
+                      std::to_string(engine.queueFamily) + " (it has " +
+                      std::to_string(family.queueCount) + ")");
+  if (!missing.empty())
+    throw std::runtime_error("sdfstream cannot use the engine's Vulkan device: it lacks " +
+                             joined(missing) +
+                             " (needs Vulkan 1.2, Context::requiredDeviceExtensions() and "
+                             "Context::requiredVulkan12Features() enabled at vkCreateDevice)");
+
+  std::unique_ptr<Context> ctx(new Context());
+  ctx->adopted_ = true;
+  ctx->instance_ = engine.instance;
+  ctx->physicalDevice_ = engine.physicalDevice;
+  ctx->device_ = engine.device;
+  ctx->queueFamily_ = engine.queueFamily;
+  ctx->timestampValidBits_ = family.timestampValidBits;
+  ctx->readDeviceProperties();
+  if ((options.validation || envFlag("SDFSTREAM_VALIDATION")) && engine.instanceHasDebugUtils)
+    ctx->createMessenger();
+  vkGetDeviceQueue(ctx->device_, engine.queueFamily, engine.queueIndex, &ctx->queue_);
+  ctx->createOwnedObjects();
+  return ctx;
+}
+
 void Context::pickDevice(const std::string& request, const std::string& requestSource) {
   std::uint32_t count = 0;
   SDFSTREAM_VK(vkEnumeratePhysicalDevices(instance_, &count, nullptr));
@@ -84,10 +92,15 @@ void Context::pickDevice(const std::string& request, const std::string& requestS
   for (VkPhysicalDevice d : devices) {
     VkPhysicalDeviceProperties p;
     vkGetPhysicalDeviceProperties(d, &p);
-    candidates.push_back({p.deviceName, p.deviceType, unsuitableReason(d, p)});
+    const std::vector<std::string> missing = missingRequirements(d);
+    candidates.push_back({p.deviceName, p.deviceType, missing.empty() ? "" : "lacks " + joined(missing)});
   }
   physicalDevice_ = devices[selectDevice(candidates, request, requestSource)];
+  readDeviceProperties();
+  queueFamily_ = findComputeFamily(physicalDevice_, &timestampValidBits_);
+}
 
+void Context::readDeviceProperties() {
   VkPhysicalDevicePushDescriptorPropertiesKHR push{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PUSH_DESCRIPTOR_PROPERTIES_KHR};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
@@ -97,7 +110,6 @@ void Context::pickDevice(const std::string& request, const std::string& requestS
   maxPushDescriptors_ = push.maxPushDescriptors;
   deviceName_ = properties_.deviceName;
   vkGetPhysicalDeviceMemoryProperties(physicalDevice_, &memoryProperties_);
-  queueFamily_ = findComputeFamily(physicalDevice_, &timestampValidBits_);
 }
 
 void Context::createDevice() {
@@ -107,19 +119,22 @@ void Context::createDevice() {
   queueInfo.queueCount = 1;
   queueInfo.pQueuePriorities = &priority;
 
-  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  f12.timelineSemaphore = VK_TRUE;
-  const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  VkPhysicalDeviceVulkan12Features f12 = requiredFeatures12();
+  const std::span<const char* const> extensions = requiredExtensions();
 
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &f12;
   info.queueCreateInfoCount = 1;
   info.pQueueCreateInfos = &queueInfo;
-  info.enabledExtensionCount = 1;
-  info.ppEnabledExtensionNames = extensions;
+  info.enabledExtensionCount = std::uint32_t(extensions.size());
+  info.ppEnabledExtensionNames = extensions.data();
   SDFSTREAM_VK(vkCreateDevice(physicalDevice_, &info, nullptr, &device_));
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+  createOwnedObjects();
+}
 
+// What the Context owns on any device, its own or adopted.
+void Context::createOwnedObjects() {
   cmdPushDescriptorSet_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
       vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
   SDFSTREAM_GPU_CHECK(cmdPushDescriptorSet_ != nullptr, "vkCmdPushDescriptorSetKHR not loadable");
@@ -140,21 +155,33 @@ void Context::createDevice() {
 Context::~Context() {
   if (device_) {
     // Not waitIdle(): a destructor must not throw, and a lost device must still be torn down.
-    vkDeviceWaitIdle(device_);
+    // An adopted device is the engine's: wait for our own timeline only, not for its work.
+    if (adopted_ && timeline_) {
+      VkSemaphoreWaitInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
+      info.semaphoreCount = 1;
+      info.pSemaphores = &timeline_;
+      info.pValues = &lastSubmission_;
+      vkWaitSemaphores(device_, &info, UINT64_MAX);
+    } else {
+      vkDeviceWaitIdle(device_);
+    }
     deletions_.runAll();
     if (timeline_) vkDestroySemaphore(device_, timeline_, nullptr);
     if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
-    vkDestroyDevice(device_, nullptr);
+    if (!adopted_) vkDestroyDevice(device_, nullptr);
   }
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
     if (destroy) destroy(instance_, messenger_, nullptr);
   }
-  if (instance_) vkDestroyInstance(instance_, nullptr);
+  if (instance_ && !adopted_) vkDestroyInstance(instance_, nullptr);
 }
 
 CommandBatch Context::beginBatch(std::uint32_t maxPasses) { return CommandBatch(*this, maxPasses); }
+CommandBatch Context::recordInto(VkCommandBuffer commandBuffer, std::uint32_t maxPasses) {
+  return CommandBatch(*this, commandBuffer, maxPasses);
+}
 
 std::uint64_t Context::submit(VkCommandBuffer commandBuffer) {
   const std::uint64_t index = lastSubmission_ + 1;
@@ -168,9 +195,15 @@ std::uint64_t Context::submit(VkCommandBuffer commandBuffer) {
   info.signalSemaphoreCount = 1;
   info.pSignalSemaphores = &timeline_;
   SDFSTREAM_VK(vkQueueSubmit(queue_, 1, &info, VK_NULL_HANDLE));
+  ++submitCount_;
   lastSubmission_ = index;
   collectGarbage();
   return index;
+}
+
+SubmitSignal Context::reserveSubmission() {
+  lastSubmission_ += 1;
+  return {timeline_, lastSubmission_};
 }
 
 std::uint64_t Context::completedSubmission() const {
@@ -181,6 +214,7 @@ std::uint64_t Context::completedSubmission() const {
 
 void Context::wait(std::uint64_t index) {
   SDFSTREAM_GPU_CHECK(index <= lastSubmission_, "waiting for a submission that was never made");
+  ++hostWaitCount_;
   VkSemaphoreWaitInfo info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
   info.semaphoreCount = 1;
   info.pSemaphores = &timeline_;
@@ -191,12 +225,16 @@ void Context::wait(std::uint64_t index) {
 
 void Context::waitIdle() {
   wait(lastSubmission_);
-  // Everything queued so far belongs to submissions <= lastSubmission_, now complete.
-  deletions_.runAll();
+  // With no batch recording, everything queued belongs to completed submissions.
+  if (openBatches_ == 0) deletions_.runAll();
 }
 
 void Context::deferDestroy(std::function<void()> destroy) {
-  deletions_.push(lastSubmission_, std::move(destroy));
+  // A batch still recording may use the object too; it becomes one of the next submissions.
+  // Never earlier than an earlier tag (a batch abandoned unsubmitted lowers the count): freeing
+  // later is always safe, and the queue stays sorted.
+  deferTag_ = std::max(deferTag_, lastSubmission_ + openBatches_);
+  deletions_.push(deferTag_, std::move(destroy));
 }
 
 void Context::collectGarbage() { deletions_.collect(completedSubmission()); }

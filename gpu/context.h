@@ -1,6 +1,11 @@
 // The Vulkan instance, one physical device, its logical device and one compute queue, plus the
 // submission timeline that drives deferred destruction (STYLE.md habit 5).
 //
+// Two ways to get one: create() makes its own instance and device (the CLI, the tests), adopt()
+// wraps an engine's instance, device and queue without owning them (the engine destroys them,
+// after this Context). Either way the Context owns its command pool, timeline semaphore and
+// everything made from it.
+//
 // Thread safety: a Context and every object made from it (Buffer, ComputePipeline, CommandBatch)
 // must be used from one thread at a time (external synchronization, as for a VkQueue). Only
 // validationMessageCount() may be read concurrently.
@@ -12,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 
 #include <vulkan/vulkan.h>
@@ -33,14 +39,54 @@ struct ContextOptions {
   bool validation = false;
 };
 
+// An engine's Vulkan objects for Context::adopt. Vulkan cannot be asked what a VkDevice was
+// created with, so the engine states it: the device extensions it enabled and its
+// VkPhysicalDeviceVulkan12Features as passed to vkCreateDevice. requiredDeviceExtensions() and
+// requiredVulkan12Features() say what to enable.
+struct AdoptedDevice {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  // The queue sdfstream submits its own (blocking) work to and whose family owns its buffers:
+  // the engine submits recorded GI frames on a queue of this family.
+  std::uint32_t queueFamily = 0;
+  std::uint32_t queueIndex = 0;
+  std::span<const char* const> enabledDeviceExtensions;
+  VkPhysicalDeviceVulkan12Features enabledVulkan12Features{};  // only the flags are read
+  // True when the instance was created with VK_EXT_debug_utils: with validation requested
+  // (ContextOptions::validation or $SDFSTREAM_VALIDATION) the Context then counts the validation
+  // layer's messages through its own messenger on the engine's instance.
+  bool instanceHasDebugUtils = false;
+};
+
+// What the timeline semaphore of a recorded, caller-submitted command buffer must be signalled
+// to (VkTimelineSemaphoreSubmitInfo): it tells the Context when that work has completed.
+struct SubmitSignal {
+  VkSemaphore semaphore = VK_NULL_HANDLE;
+  std::uint64_t value = 0;
+};
+
 class Context {
  public:
   // Throws std::runtime_error with a one-line reason: no matching/suitable device, validation
   // layer missing, or a failed Vulkan call. Requirements: Vulkan 1.2, timeline semaphores,
   // VK_KHR_push_descriptor, a compute queue.
   static std::unique_ptr<Context> create(const ContextOptions& options = {});
+  // Wraps an engine's device (see AdoptedDevice); options.device is ignored. Throws
+  // std::runtime_error naming everything the device lacks (API version, extensions, features,
+  // a compute-capable queue family).
+  static std::unique_ptr<Context> adopt(const AdoptedDevice& device,
+                                        const ContextOptions& options = {});
+  // What adopt() needs enabled at vkCreateDevice: these extensions, and these Vulkan 1.2 features
+  // (set to VK_TRUE), on a Vulkan 1.2 device with a compute queue.
+  static std::span<const char* const> requiredDeviceExtensions();
+  static VkPhysicalDeviceVulkan12Features requiredVulkan12Features();
 
-  // Waits for all submitted work, runs every deferred destruction, then destroys the device.
+  // True when the instance and device belong to the caller (adopt()).
+  bool adopted() const { return adopted_; }
+
+  // Waits for all submitted work (own and caller-submitted frames, through the timeline), runs
+  // every deferred destruction, then destroys the device and instance if it made them.
   ~Context();
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
@@ -64,11 +110,19 @@ class Context {
 
   // A new command batch; see command_batch.h. `maxPasses` bounds the timed dispatches it records.
   CommandBatch beginBatch(std::uint32_t maxPasses = 64);
+  // A batch recording into the caller's command buffer (begun, outside a render pass, from a
+  // pool of queueFamily()); see CommandBatch::finish().
+  CommandBatch recordInto(VkCommandBuffer commandBuffer, std::uint32_t maxPasses = 64);
 
   // --- Submission timeline. Submission n signals the timeline semaphore to value n. ---
   // Submits a recorded (ended) command buffer on the compute queue; returns its index.
   // Also frees deferred objects whose submission has completed.
   std::uint64_t submit(VkCommandBuffer commandBuffer);
+  // Reserves the next submission index for a command buffer the caller records (CommandBatch
+  // over an external command buffer) and submits itself, signalling the returned semaphore value.
+  // Contract: that submission is made (on a queue of queueFamily()) before the next call that
+  // submits on this Context, so the timeline's signals stay in increasing order.
+  SubmitSignal reserveSubmission();
   std::uint64_t lastSubmission() const { return lastSubmission_; }
   std::uint64_t completedSubmission() const;
   // Blocks until submission `index` has completed, then frees what became free.
@@ -76,9 +130,16 @@ class Context {
   // Blocks until everything submitted has completed and frees every deferred object.
   void waitIdle();
 
+  // --- Counters (for tests and engines checking that a frame never blocks). ---
+  // vkQueueSubmit calls made by this Context (not the caller's own submissions).
+  std::uint64_t submitCount() const { return submitCount_; }
+  // Times the CPU blocked on the GPU: wait() and waitIdle() calls, including those made by
+  // blocking uploads, downloads and batches.
+  std::uint64_t hostWaitCount() const { return hostWaitCount_; }
+
   // --- Deferred destruction. ---
-  // Queues `destroy` to run after the last submission made so far has completed (so any work
-  // that may use the object has finished). Owners call this from their destructors; the callback
+  // Queues `destroy` to run after the last submission made so far has completed, or, while
+  // batches are being recorded, after theirs too (they may use the object). Owners call this from their destructors; the callback
   // must not throw. Not run immediately even if the GPU is idle: frees happen in submit(),
   // wait(), waitIdle(), collectGarbage() and ~Context.
   void deferDestroy(std::function<void()> destroy);
@@ -104,6 +165,10 @@ class Context {
  private:
   Context() = default;
   void createInstance(bool validation);
+  VkDebugUtilsMessengerCreateInfoEXT messengerInfo();
+  void createMessenger();
+  void readDeviceProperties();
+  void createOwnedObjects();
   void pickDevice(const std::string& request, const std::string& requestSource);
   void createDevice();
   static VKAPI_ATTR VkBool32 VKAPI_CALL onValidationMessage(
@@ -120,6 +185,12 @@ class Context {
   VkCommandPool commandPool_ = VK_NULL_HANDLE;
   VkSemaphore timeline_ = VK_NULL_HANDLE;
   std::uint64_t lastSubmission_ = 0;
+  std::uint64_t submitCount_ = 0;
+  std::uint64_t hostWaitCount_ = 0;
+  bool adopted_ = false;
+  std::uint64_t openBatches_ = 0;  // CommandBatches recording, not yet submitted or released
+  std::uint64_t deferTag_ = 0;     // the submission the newest deferred destruction waits for
+  friend class CommandBatch;
 
   std::string deviceName_;
   VkPhysicalDeviceProperties properties_{};

@@ -41,6 +41,30 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::onValidationMessage(
   return VK_FALSE;  // never abort the call: tests count messages and fail cleanly instead
 }
 
+VkDebugUtilsMessengerCreateInfoEXT Context::messengerInfo() {
+  VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                         VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                     VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  info.pfnUserCallback = &Context::onValidationMessage;
+  info.pUserData = this;
+  return info;
+}
+
+void Context::createMessenger() {
+  const VkDebugUtilsMessengerCreateInfoEXT info = messengerInfo();
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+  SDFSTREAM_GPU_CHECK(create != nullptr, "VK_EXT_debug_utils enabled but not loadable");
+  SDFSTREAM_VK(create(instance_, &info, nullptr, &messenger_));
+  cmdBeginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+  cmdEndLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
+      vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+}
+
 void Context::createInstance(bool validation) {
   if (validation && !hasLayer(kValidationLayer))
     throw std::runtime_error(
@@ -58,37 +82,18 @@ void Context::createInstance(bool validation) {
     // The validation layer itself provides VK_EXT_debug_utils, so it is always available here.
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
-
-  VkDebugUtilsMessengerCreateInfoEXT messengerInfo{
-      VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  messengerInfo.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-  messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-  messengerInfo.pfnUserCallback = &Context::onValidationMessage;
-  messengerInfo.pUserData = this;
+  const VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo();
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   // Chaining the messenger info also reports problems inside vkCreate/DestroyInstance.
-  info.pNext = validation ? &messengerInfo : nullptr;
+  info.pNext = validation ? &messenger : nullptr;
   info.pApplicationInfo = &app;
   info.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
   info.ppEnabledLayerNames = layers.data();
   info.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
   SDFSTREAM_VK(vkCreateInstance(&info, nullptr, &instance_));
-
-  if (validation) {
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-    SDFSTREAM_GPU_CHECK(create != nullptr, "VK_EXT_debug_utils enabled but not loadable");
-    SDFSTREAM_VK(create(instance_, &messengerInfo, nullptr, &messenger_));
-    cmdBeginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
-    cmdEndLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
-        vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
-  }
+  if (validation) createMessenger();
 }
 
 }  // namespace sdfstream::gpu
