@@ -70,8 +70,11 @@ TEST(GiRecord, StreamedFramesWithObjectsMatchBlockingBitForBitWithoutWaits) {
   ASSERT_TRUE(adopted->validationEnabled());
 
   const std::uint32_t cascades = 3;
-  GiSystem blocking(*own, smallSettings(), cascades);
-  GiSystem recorded(*adopted, smallSettings(), cascades);
+  // Destroyed before the Contexts (and so before the engine's device), as every GPU object.
+  auto blockingGi = std::make_unique<GiSystem>(*own, smallSettings(), cascades);
+  auto recordedGi = std::make_unique<GiSystem>(*adopted, smallSettings(), cascades);
+  GiSystem& blocking = *blockingGi;
+  GiSystem& recorded = *recordedGi;
   blocking.setObjects(&library, &blockingObjects.instances);
   recorded.setObjects(&library, &recordedObjects.instances);
   SceneLights lights;
@@ -104,13 +107,16 @@ TEST(GiRecord, StreamedFramesWithObjectsMatchBlockingBitForBitWithoutWaits) {
     engine->submitFrame(rec.signal);
     if (auto s = recorded.completedStats()) {
       ++statsSeen;
-      EXPECT_LT(s->frame, std::uint64_t(f)) << "statistics come back a frame or more late";
+      // Only frames the GPU has finished; on a CPU device that may already be this one.
+      EXPECT_LE(s->frame, std::uint64_t(f));
     }
   }
   // Inside the loop: the engine's 100 submissions, none by sdfstream, no sdfstream wait.
+  const std::uint64_t loopSubmits = adopted->submitCount() - submitsBefore;
+  const std::uint64_t loopWaits = adopted->hostWaitCount() - waitsBefore;
   EXPECT_EQ(engine->submissions, std::uint64_t(kFrames));
-  EXPECT_EQ(adopted->submitCount() - submitsBefore, 0u);
-  EXPECT_EQ(adopted->hostWaitCount() - waitsBefore, 0u);
+  EXPECT_EQ(loopSubmits, 0u);
+  EXPECT_EQ(loopWaits, 0u);
   EXPECT_GT(streamedSlots, 0u) << "the camera path must stream bricks";
   EXPECT_GT(statsSeen, 0);
 
@@ -133,11 +139,12 @@ TEST(GiRecord, StreamedFramesWithObjectsMatchBlockingBitForBitWithoutWaits) {
   std::printf("[figures] record vs blocking: %d frames, %zu streamed slots, engine submits %llu, "
               "sdfstream submits %llu, sdfstream waits %llu, irradiance texels %zu bit-equal\n",
               kFrames, streamedSlots, static_cast<unsigned long long>(engine->submissions),
-              static_cast<unsigned long long>(adopted->submitCount() - submitsBefore),
-              static_cast<unsigned long long>(adopted->hostWaitCount() - waitsBefore),
+              static_cast<unsigned long long>(loopSubmits),
+              static_cast<unsigned long long>(loopWaits),
               irradianceA.size());
 
-  recorded.setObjects(nullptr, nullptr);
+  recordedGi.reset();
+  blockingGi.reset();
   adopted.reset();  // before the engine destroys its device
   engine.reset();
   own.reset();
