@@ -1,6 +1,6 @@
 // A tiny deterministic random source for scripted placement and motion: the same numbers on
 // every platform and compiler (std:: distributions are not), so a seed always gives the same
-// scene. Used by objects/scripted_motion.cpp and demo/moving_objects.cpp.
+// scene. Used by objects/scripted_motion.cpp, demo/moving_objects.cpp and world/generate_world.cpp.
 #pragma once
 
 #include <algorithm>
