@@ -11,6 +11,7 @@
 #include "bench/bench_gi_report.h"
 #include "bench/bench_gi_run.h"
 #include "bench/bench_gi_scenes.h"
+#include "core/stopwatch.h"
 #include "demo/frame_image.h"
 #include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
@@ -20,10 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 // The scene's configurations: the sweep (or the GPU table's), filtered by --configs.
 std::vector<GiConfig> configsToRun(const BenchScene& scene, const GiBenchOptions& opt) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/stats.h"
+#include "core/stopwatch.h"
 #include "demo/frame_image.h"
 #include "gi/gi_system.h"
 #include "gi/probe_math.h"
@@ -17,10 +18,6 @@ namespace sdfstream::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 double bufferMiB(std::initializer_list<const gpu::Buffer*> buffers) {
   double bytes = 0.0;

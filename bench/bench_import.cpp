@@ -11,6 +11,7 @@
 
 #include "bench/pack_stats.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "world/layout_sources.h"
 #include "world/obj_import.h"
 #include "world/pack_import.h"
@@ -23,17 +24,13 @@ namespace fs = std::filesystem;
 using Kind = InputErrorKind;
 using Clock = std::chrono::steady_clock;
 
-double seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
-
 // Best (smallest) wall time of `runs` calls.
 double bestOf(int runs, const std::function<void()>& f) {
   double best = std::numeric_limits<double>::infinity();
   for (int i = 0; i < runs; ++i) {
     const auto start = Clock::now();
     f();
-    best = std::min(best, seconds(start));
+    best = std::min(best, secondsSince(start));
   }
   return best;
 }

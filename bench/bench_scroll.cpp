@@ -7,6 +7,7 @@
 
 #include "core/atomic_dir.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "gi/gpu_stack_tracer.h"
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
@@ -31,14 +32,14 @@ Cost settleAndMeasure(CascadeStack& stack, TileLoader& loader, GpuStackTracer* g
   for (int round = 0; round < 1000; ++round) {
     auto t0 = Clock::now();
     StreamFrameStats s = stack.update(camera);
-    cost.cpuMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    cost.cpuMs += millisecondsSince(t0);
     cost.bytes += s.bytesUploaded;
     for (const auto& c : s.cascades) cost.pages += c.pagesChanged;
     auto dirty = stack.takeDirtySlots();
     if (gpu) {
       auto t1 = Clock::now();
       gpu->sync(stack, dirty);
-      cost.uploadMs += std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+      cost.uploadMs += millisecondsSince(t1);
     }
     if (stack.settled()) return cost;
     loader.waitIdle();

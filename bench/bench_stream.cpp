@@ -15,6 +15,7 @@
 #include "bench/bench_stream_report.h"
 #include "core/atomic_dir.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "demo/fly_path.h"
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
@@ -25,10 +26,6 @@ namespace fs = std::filesystem;
 namespace sdfstream::bench {
 namespace {
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 std::size_t residentSetBytes() {
   std::ifstream statm("/proc/self/statm");
@@ -105,7 +102,7 @@ Flight fly(const PackTileStore& store, const FlyPath& path, double speed, int fr
     m.camera = path.position(s);
     const auto t0 = Clock::now();
     m.stream = stack.update(m.camera, lookDirection(path, s));
-    m.updateMilliseconds = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    m.updateMilliseconds = millisecondsSince(t0);
     stack.takeDirtySlots();
     m.gpuBytes =
         stack.atlasBytes() + std::size_t(stack.cascadeCount()) * layout::kCascadePageCount * 4;

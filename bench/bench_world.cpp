@@ -6,6 +6,7 @@
 
 #include "bench/bench_import.h"
 #include "bench/pack_stats.h"
+#include "core/stopwatch.h"
 #include "world/layout_sources.h"
 #include "world/pack.h"
 #include "world/pack_import.h"
@@ -15,10 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 }  // namespace
 
@@ -35,11 +32,11 @@ int runWorldBench(const WorldBenchOptions& o) {
 
   const auto start = Clock::now();
   const auto sources = loadLayoutSources(layout);
-  const double tLoad = seconds(start);
+  const double tLoad = secondsSince(start);
   const PartitionSpec spec = partitionFor(sources, options, layout.filename().string());
   const auto buildStart = Clock::now();
   options.progress = [&](std::size_t done, std::size_t total) {
-    const double t = seconds(buildStart);
+    const double t = secondsSince(buildStart);
     const double eta = done ? t / double(done) * double(total - done) : 0.0;
     const int width = 30,
               filled = int(double(width) * double(done) / double(std::max<std::size_t>(total, 1)));
@@ -49,7 +46,7 @@ int runWorldBench(const WorldBenchOptions& o) {
     if (done == total) std::fputc('\n', stderr);
   };
   importPack(sources, pack, spec, options, layout.filename().string());
-  const double tTotal = seconds(start);
+  const double tTotal = secondsSince(start);
   const PackStats s = packStats(pack);
   const std::string problem = verifyPack(pack);
 

@@ -11,6 +11,7 @@
 #include "bench/stress_report.h"
 #include "core/atomic_dir.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "demo/render_options.h"
 #include "gi/cpu_tracer.h"
 #include "objects/instance_set.h"
@@ -107,7 +108,7 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       const std::span<const std::uint32_t> dirty =
           f == 0 ? std::span<const std::uint32_t>(b.allSlots) : std::span<const std::uint32_t>();
       const GiFrameStats s = gi.update(b.stack, dirty, lights, b.inputs, std::uint64_t(f));
-      const double hostMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      const double hostMs = millisecondsSince(t0);
       if (f < b.warmup) continue;
 
       StressFrame m;
@@ -152,7 +153,7 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
   }
   b.context.waitIdle();  // the run's buffers are freed before the next run allocates its own
   run.validationMessages = gpu::Context::processValidationMessageCount() - validationBefore;
-  run.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+  run.wallSeconds = secondsSince(start);
   return run;
 }
 

@@ -10,6 +10,7 @@
 
 #include "core/atomic_dir.h"
 #include "core/stats.h"
+#include "core/stopwatch.h"
 #include "demo/default_scene.h"
 #include "demo/demo_report.h"
 #include "demo/moving_objects.h"
@@ -24,10 +25,6 @@ namespace fs = std::filesystem;
 
 namespace sdfstream {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 struct DemoView {
   std::string name;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/atomic_dir.h"
+#include "core/stopwatch.h"
 #include "demo/fly_path.h"
 #include "demo/fly_report.h"
 #include "demo/frame_image.h"
@@ -27,10 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 // Exposure added to the indirect-only layer of --layers (stops).
 constexpr float kIndirectLayerStops = 2.0f;
-
-double millisecondsSince(Clock::time_point t) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
 
 StreamingOptions streamingOptions(const FlyOptions& o) {
   StreamingOptions so;

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/stopwatch.h"
+
 namespace sdfstream {
 
 ViewRenderer::ViewRenderer(const World& world, gpu::Context* context, const RenderOptions& options,
@@ -48,8 +50,7 @@ ViewResult ViewRenderer::render(const Camera& camera, int width, int height) {
     }
     const auto shaded = shadePrimaryCpu(*stack_, rays, gpuLights, toGpu(lights.sky),
                                         options_.renderer.shading, cpuLight_.radiance());
-    r.shadeMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    r.shadeMilliseconds = millisecondsSince(start);
     r.rays = rays.size();
     r.frame = composeFrame(shaded, width, height, {}, {});
   } else {
