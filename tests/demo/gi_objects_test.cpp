@@ -18,14 +18,14 @@
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "gi/object_scene_cpu.h"
-#include "tests/demo_gi/demo_gi_scene.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/demo/demo_gi_scene.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream {
 namespace {
 
-using test::FloorRegion;
 using test::floorMean;
+using test::FloorRegion;
 using test::lum;
 
 class DemoGiObjectsTest : public test::GpuTest {};
@@ -54,9 +54,9 @@ TEST_F(DemoGiObjectsTest, PrimaryRaysSeeObjectsAsTheCpuTraversalDoes) {
   const std::uint32_t sphere = library.addSphere(0.3f, {0.2f, 0.4f, 0.9f, 1.0f}, 16);
   InstanceSet instances;
   instances.add(sphere, pose({-0.5, 0.6, 0.5}, glm::quat(1, 0, 0, 0), {1.0f, 1.3f, 1.0f}));
-  instances.add(box, pose({0.2, 0.45, 1.0},
-                          glm::angleAxis(0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))),
-                          {1.2f, 0.8f, 1.0f}));
+  instances.add(
+      box, pose({0.2, 0.45, 1.0}, glm::angleAxis(0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))),
+                {1.2f, 0.8f, 1.0f}));
   instances.add(box, pose({-1.1, 1.0, -0.9}, glm::angleAxis(0.9f, glm::vec3(0.0f, 1.0f, 0.0f))));
   // Straight behind the pillar (x 0.8..1.2, z -0.25..0.25, 1.4 m tall) as the camera sees it:
   // only its top shows above the pillar, the rest must stay hidden behind it.
@@ -84,16 +84,16 @@ TEST_F(DemoGiObjectsTest, PrimaryRaysSeeObjectsAsTheCpuTraversalDoes) {
   // Half the finest object voxel, in stack voxels (grid voxel x smallest scale / stack voxel).
   float halfVoxel = 1e30f;
   for (const Instance& i : instances.instances()) {
-    const float scale = std::min({std::abs(i.pose.scale.x), std::abs(i.pose.scale.y),
-                                  std::abs(i.pose.scale.z)});
-    halfVoxel = std::min(halfVoxel, 0.5f * library.mesh(i.mesh).voxel * scale /
-                                        float(s.image.voxelSize0));
+    const float scale =
+        std::min({std::abs(i.pose.scale.x), std::abs(i.pose.scale.y), std::abs(i.pose.scale.z)});
+    halfVoxel =
+        std::min(halfVoxel, 0.5f * library.mesh(i.mesh).voxel * scale / float(s.image.voxelSize0));
   }
   // Rays whose object and static hits lie within this of each other (stack voxels) may go either
   // way (the object touching the floor).
   const float ambiguous = 0.5f;
-  std::size_t objectPixels = 0, hiddenByStatic = 0, missing = 0, extra = 0, tOff = 0,
-              normalOff = 0, materialOff = 0;
+  std::size_t objectPixels = 0, hiddenByStatic = 0, missing = 0, extra = 0, tOff = 0, normalOff = 0,
+              materialOff = 0;
   for (std::size_t i = 0; i < view.shaded.size(); ++i) {
     const gpu_shared::ShadedHit& g = view.shaded[i];
     const gpu_shared::ObjectTraceHit c = cpuObjects.traceRegions(view.rays[i]);
@@ -141,8 +141,8 @@ struct FloorCompare {
   double lumA = 0.0, lumB = 0.0;
   float maxChange = 0.0f;
 };
-FloorCompare compareFloor(const ShadedView& a, const ShadedView& b,
-                          const CascadeStackImage& image, FloorRegion r) {
+FloorCompare compareFloor(const ShadedView& a, const ShadedView& b, const CascadeStackImage& image,
+                          FloorRegion r) {
   FloorCompare out;
   for (std::size_t i = 0; i < a.shaded.size(); ++i) {
     if (!test::onFloor(a, image, i, r) || !test::onFloor(b, image, i, r)) continue;

@@ -14,16 +14,16 @@
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "gi/light_cache.h"
-#include "tests/demo_gi/demo_gi_scene.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/demo/demo_gi_scene.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream {
 namespace {
 
 class DemoGiTest : public test::GpuTest {};
 
-using test::FloorRegion;
 using test::floorMean;
+using test::FloorRegion;
 using test::lum;
 
 World testWorld() { return test::demoGiWorld(); }

@@ -2,7 +2,7 @@
 // validation on, and fails if the validation layer reported anything -- during the test or while
 // the Context was torn down (leaked objects are reported then).
 //
-//   #include "tests/gpu/gpu_test_fixture.h"
+//   #include "tests/support/gpu_test.h"
 //   class TraceTest : public sdfstream::test::GpuTest {};
 //   TEST_F(TraceTest, Hits) { sdfstream::gpu::Buffer b(ctx(), 64, ...); ... }
 //
