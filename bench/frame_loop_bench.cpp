@@ -18,7 +18,7 @@
 #include "streaming/pack_store.h"
 #include "streaming/tile_loader.h"
 
-namespace sdfstream {
+namespace sdfstream::bench {
 namespace {
 
 double threadCpuSeconds() {
@@ -194,4 +194,4 @@ void runFrameLoopBench(const FrameLoopOptions& o) {
   writeFileAtomically(o.out / "summary.md", md.data(), md.size());
 }
 
-}  // namespace sdfstream
+}  // namespace sdfstream::bench

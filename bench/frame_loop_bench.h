@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 
-namespace sdfstream {
+namespace sdfstream::bench {
 
 struct FrameLoopOptions {
   std::filesystem::path world;  // a world pack
@@ -25,4 +25,4 @@ struct FrameLoopOptions {
 // Throws InputError for a bad world, std::runtime_error for Vulkan failures.
 void runFrameLoopBench(const FrameLoopOptions& options);
 
-}  // namespace sdfstream
+}  // namespace sdfstream::bench

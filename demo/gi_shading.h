@@ -11,7 +11,7 @@
 // (hard shadows), so they darken the direct light of what lies under them; the probes see them
 // too, which darkens the indirect light there (their indirect shadow).
 //
-// Used by `sdfstream render`, `demo` (one cascade built from the world, tools/view_renderer.h)
+// Used by `sdfstream render`, `demo` (one cascade built from the world, demo/view_renderer.h)
 // and `fly` (the streaming stack). Thread safety: as for the gpu::Context.
 #pragma once
 

@@ -9,7 +9,7 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "objects/split_mix_rng.h"
+#include "core/split_mix_rng.h"
 #include "world/partition.h"
 
 namespace sdfstream {

@@ -1,43 +1,15 @@
-// The lights and sky of a scene in world units (metres, linear RGB): what the demo, the GI and
-// the path-traced reference are given. toGpu() turns it into the shared GPU structs of
-// shaders/shared/light_layout.h for one cascade stack (positions become cascade-0 voxels).
+// The GPU form of a scene's lights and sky (world/scene_lights.h, world units): toGpu() turns
+// them into the shared GPU structs of shaders/shared/light_layout.h for one cascade stack
+// (positions become cascade-0 voxels).
 #pragma once
 
-#include <cstdint>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "shaders/shared/light_layout.h"
 #include "streaming/cascade_stack.h"
+#include "world/scene_lights.h"
 
 namespace sdfstream {
-
-struct SceneLight {
-  enum class Type { Sun, Point, Spot };
-  Type type = Type::Sun;
-  glm::dvec3 position{0.0};          // world metres (point, spot)
-  glm::vec3 direction{0, -1, 0};     // sun: the way light travels; spot: the way it points
-  glm::vec3 color{1.0f};             // linear RGB
-  float intensity = 1.0f;            // sun: irradiance; point/spot: intensity (W/sr scale)
-  float innerConeDegrees = 20.0f;    // spot: full intensity inside this half-angle
-  float outerConeDegrees = 30.0f;    // spot: zero outside this half-angle
-  float range = 0.0f;                // metres, 0 = unbounded (1/d² only)
-  float shadowSharpness = 16.0f;     // soft-shadow k (larger = harder), 0 = hard shadows
-  bool castsShadows = true;
-};
-
-struct SceneSky {
-  glm::vec3 zenith{0.0f};   // radiance straight up (linear RGB)
-  glm::vec3 horizon{0.0f};  // radiance at/below the horizon
-};
-
-struct SceneLights {
-  std::vector<SceneLight> lights;  // at most gpu_shared::kMaxLights
-  SceneSky sky;
-  // Bumped by whoever edits the lights; the light cache relights everything when it changes.
-  std::uint64_t version = 0;
-};
 
 // GPU form for `stack` (positions relative to cascade 0's minimum corner, in its voxels).
 // Throws std::invalid_argument when there are more than kMaxLights lights.

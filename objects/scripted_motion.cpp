@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/split_mix_rng.h"
 #include "objects/primitive_meshes.h"
-#include "objects/split_mix_rng.h"
 
 namespace sdfstream {
 namespace {

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "reference/sampling.h"
+#include "shaders/shared/light_layout.h"  // kMaxLights: the reference takes what the GI can
 
 namespace sdfstream::reference {
 namespace {

@@ -1,6 +1,6 @@
 // Monte Carlo path tracer on the source triangles: the ground truth the GI is judged by (issue 6,
 // item 1). It sees the same scene as the GI — TriangleScene materials (linear albedo and emission
-// via sampleAlbedo / sampleEmission) and the SceneLights lights and sky (gi/scene_lights.h,
+// via sampleAlbedo / sampleEmission) and the SceneLights lights and sky (world/scene_lights.h,
 // semantics in shaders/shared/light_layout.h) — and is built on Embree, which no one here wrote.
 //
 // Model:
@@ -41,8 +41,8 @@
 
 #include <glm/glm.hpp>
 
-#include "gi/scene_lights.h"  // SceneLights only: header-only structs, toGpu() is not called
 #include "reference/embree_scene.h"
+#include "world/scene_lights.h"
 #include "world/triangle_scene.h"
 
 namespace sdfstream::reference {

@@ -5,16 +5,9 @@
 #include <sstream>
 
 #include "core/atomic_dir.h"
+#include "core/stats.h"
 
 namespace sdfstream {
-namespace {
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  std::size_t i = std::min(v.size() - 1, std::size_t(p * double(v.size() - 1) + 0.5));
-  return v[i];
-}
-}  // namespace
 
 MetricsSummary summarize(const std::vector<FrameMetrics>& frames) {
   MetricsSummary s;

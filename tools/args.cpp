@@ -43,7 +43,8 @@ double Args::number(const std::string& name, double fallback) const {
   if (!v) return fallback;
   char* end = nullptr;
   double d = std::strtod(v->c_str(), &end);
-  if (v->empty() || *end != '\0' || !std::isfinite(d)) usage(name + " expects a number, got '" + *v + "'");
+  if (v->empty() || *end != '\0' || !std::isfinite(d))
+    usage(name + " expects a number, got '" + *v + "'");
   return d;
 }
 
@@ -58,12 +59,26 @@ int Args::integer(const std::string& name, int fallback, int lo, int hi) const {
   return int(n);
 }
 
-std::unique_ptr<gpu::Context> gpuContextFromArgs(const Args& args) {
-  if (args.has("--cpu")) return nullptr;
+std::string commandLine(int argc, char** argv, int first) {
+  std::string line;
+  for (int i = first; i < argc; ++i) {
+    if (i > first) line += ' ';
+    line += argv[i];
+  }
+  return line;
+}
+
+std::optional<gpu::ContextOptions> deviceFromArgs(const Args& args) {
+  if (args.has("--cpu")) return std::nullopt;
   gpu::ContextOptions options;
   options.device = args.value("--device").value_or("");
   options.validation = args.has("--validation");
-  return gpu::Context::create(options);
+  return options;
+}
+
+std::unique_ptr<gpu::Context> gpuContextFromArgs(const Args& args) {
+  const auto device = deviceFromArgs(args);
+  return device ? gpu::Context::create(*device) : nullptr;
 }
 
 }  // namespace sdfstream::cli

@@ -9,9 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace sdfstream::gpu {
-class Context;
-}
+#include "gpu/context.h"
 
 namespace sdfstream::cli {
 
@@ -33,9 +31,14 @@ class Args {
   std::vector<std::string> positional_;
 };
 
-// The Vulkan context the command asked for: nullptr with --cpu (trace with the CPU reference),
+// argv[first..argc) joined by spaces: the command line as the reports quote it.
+std::string commandLine(int argc, char** argv, int first);
+
+// The Vulkan device the command asked for: nullopt with --cpu (trace with the CPU reference),
 // else the device named by --device (or SDFSTREAM_DEVICE, or the best one), with the Khronos
 // validation layer when --validation is given (or SDFSTREAM_VALIDATION=1).
+std::optional<gpu::ContextOptions> deviceFromArgs(const Args& args);
+// That device opened (nullptr with --cpu).
 std::unique_ptr<gpu::Context> gpuContextFromArgs(const Args& args);
 
 }  // namespace sdfstream::cli

@@ -2,10 +2,11 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "demo/view_renderer.h"
 #include "gpu/context.h"
 #include "tools/args.h"
 #include "tools/commands.h"
-#include "tools/view_renderer.h"
+#include "tools/render_args.h"
 #include "world/world_io.h"
 
 namespace fs = std::filesystem;
@@ -50,9 +51,9 @@ int runRender(int argc, char** argv) {
   if (auto text = args.value("--camera")) {
     auto parsed = parseCamera(*text);
     if (!parsed)
-      throw InputError(InputErrorKind::Usage, "command line",
-                       "--camera expects px,py,pz,tx,ty,tz[,fov] with distinct points, got '" +
-                           *text + "'");
+      throw InputError(
+          InputErrorKind::Usage, "command line",
+          "--camera expects px,py,pz,tx,ty,tz[,fov] with distinct points, got '" + *text + "'");
     camera = *parsed;
   }
   int width = args.integer("--width", 640, 1, 8192);

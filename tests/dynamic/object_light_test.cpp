@@ -9,9 +9,9 @@
 #include "gi/light_cache.h"
 #include "gi/object_scene.h"
 #include "tests/dynamic/object_scenes.h"
-#include "tests/gpu/gpu_test_fixture.h"
 #include "tests/lights/light_scenes.h"
 #include "tests/support/analytic_stack.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream {
 namespace {

@@ -12,7 +12,7 @@
 #include "gi/object_scene.h"
 #include "gi/object_scene_cpu.h"
 #include "tests/dynamic/object_scenes.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream {
 namespace {

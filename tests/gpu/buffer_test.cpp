@@ -5,7 +5,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream::test {
 namespace {

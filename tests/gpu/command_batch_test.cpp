@@ -6,8 +6,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
-#include "tests/gpu/gpu_test_fixture.h"
 #include "tests/gpu/saxpy.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream::test {
 namespace {

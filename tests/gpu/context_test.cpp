@@ -8,7 +8,7 @@
 #include <string>
 
 #include "gpu/context.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream::test {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "gi/gpu_stack_scene.h"
 #include "gi/light_cache.h"
-#include "tests/gpu/gpu_test_fixture.h"
 #include "tests/lights/light_scenes.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream {
 namespace {

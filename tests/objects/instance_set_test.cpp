@@ -7,16 +7,10 @@
 #include <gtest/gtest.h>
 
 #include "objects/instance_set.h"
+#include "tests/support/object_sdf_settings.h"
 
 namespace sdfstream {
 namespace {
-
-ObjectSdfSettings fast() {
-  ObjectSdfSettings s;
-  s.maxResolution = 8;
-  s.minResolution = 8;
-  return s;
-}
 
 ObjectTransform at(double x, double y = 0, double z = 0) {
   ObjectTransform t;
@@ -74,7 +68,7 @@ TEST(ObjectTransform, InvalidScaleOrRotationThrows) {
 }
 
 TEST(WorldBounds, ExactBoxOfTheTransformedGridCorners) {
-  ObjectLibrary lib(fast());
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
   const ObjectSdf& sdf = lib.mesh(lib.addBox(glm::vec3(1.0f, 0.5f, 0.25f), glm::vec4(1.0f)));
   ObjectTransform t;
   t.translation = {100, -5, 3};
@@ -170,7 +164,7 @@ TEST(InstanceSet, RandomOperationsAgreeWithAMap) {
 }
 
 TEST(InstanceSet, ChangedBoxesCoverOldAndNewPosesUntilEndFrame) {
-  ObjectLibrary lib(fast());
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
   const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
   const ObjectSdf& sdf = lib.mesh(mesh);
   InstanceSet set;

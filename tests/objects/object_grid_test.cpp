@@ -8,17 +8,12 @@
 #include "core/error.h"
 #include "objects/object_sdf.h"
 #include "objects/primitive_meshes.h"
+#include "tests/support/object_sdf_settings.h"
 #include "world/color_pack.h"
 #include "world/mesh_to_sdf.h"
 
 namespace sdfstream {
 namespace {
-
-ObjectSdfSettings resolution(std::uint32_t max) {
-  ObjectSdfSettings s;
-  s.maxResolution = max;
-  return s;
-}
 
 // Resolution rule (object_sdf.h): voxel = longest / clamp(ceil(longest / target), min, max), each
 // axis ceil(extent / voxel) + 1 + 2·pad samples, centred.
@@ -97,7 +92,7 @@ TEST(ObjectSdf, MaterialsComeFromTheClosestTriangle) {
   red.emissive = glm::vec3(4.0f, 1.0f, 0.25f);
   mesh.materials.push_back(red);
   mesh.triangleMaterial[2] = mesh.triangleMaterial[3] = 1;
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(24));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(24));
 
   const std::uint32_t greenAlbedo = packAlbedo(mesh.materials[0].baseColorFactor);
   const std::uint32_t redAlbedo = packAlbedo(red.baseColorFactor);
@@ -137,8 +132,8 @@ TEST(ObjectSdf, MaterialsComeFromTheClosestTriangle) {
 
 TEST(ObjectSdf, DeterministicAndHashedByContent) {
   const TriangleScene mesh = makeSphereMesh(0.5f, glm::vec4(0.3f), 12);
-  const ObjectSdf a = buildObjectSdf(mesh, resolution(24)),
-                  b = buildObjectSdf(mesh, resolution(24));
+  const ObjectSdf a = buildObjectSdf(mesh, test::objectSdfResolution(24)),
+                  b = buildObjectSdf(mesh, test::objectSdfResolution(24));
   EXPECT_EQ(a.distance, b.distance);
   EXPECT_EQ(a.albedo, b.albedo);
   EXPECT_EQ(a.contentHash(), b.contentHash());

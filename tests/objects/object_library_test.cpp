@@ -9,18 +9,13 @@
 #include "objects/object_cache.h"
 #include "objects/object_library.h"
 #include "objects/primitive_meshes.h"
+#include "tests/support/object_sdf_settings.h"
 #include "tests/support/test_data.h"
 
 namespace sdfstream {
 namespace {
 
 namespace fs = std::filesystem;
-
-ObjectSdfSettings fast() {
-  ObjectSdfSettings s;
-  s.maxResolution = 16;
-  return s;
-}
 
 std::vector<fs::path> filesIn(const fs::path& dir) {
   std::vector<fs::path> out;
@@ -39,7 +34,7 @@ void expectSame(const ObjectSdf& a, const ObjectSdf& b) {
 }
 
 TEST(ObjectLibrary, IndicesNamesAndVersion) {
-  ObjectLibrary lib(fast());
+  ObjectLibrary lib(test::objectSdfResolution(16));
   EXPECT_EQ(lib.size(), 0u);
   EXPECT_EQ(lib.version(), 0u);
   const std::uint32_t box = lib.addBox(glm::vec3(0.5f, 1.0f, 0.25f), glm::vec4(1.0f));
@@ -70,7 +65,7 @@ TEST(ObjectLibrary, IndicesNamesAndVersion) {
 TEST(ObjectLibrary, GltfFileIsOneMesh) {
   const fs::path file = test::assimpModels() / "glTF2/BoxTextured-glTF/BoxTextured.gltf";
   if (!fs::exists(file)) GTEST_SKIP() << file << " absent (assimp-testmodels)";
-  ObjectLibrary lib(fast());
+  ObjectLibrary lib(test::objectSdfResolution(16));
   const std::uint32_t i = lib.addGltf(file);
   EXPECT_EQ(lib.name(i), "BoxTextured.gltf");
   EXPECT_TRUE(lib.mesh(i).closed);
@@ -81,15 +76,16 @@ TEST(ObjectLibrary, DiskCacheHitsSkipTheBuildAndCorruptFilesAreRebuilt) {
   const fs::path dir = test::scratchDir("object-cache") / "nested";  // created on first write
   const TriangleScene sphere = makeSphereMesh(0.5f, glm::vec4(0.2f, 0.4f, 0.6f, 1.0f), 10);
 
-  ObjectLibrary first(fast(), dir);
+  ObjectLibrary first(test::objectSdfResolution(16), dir);
   const ObjectSdf& built = first.mesh(first.add("s", sphere));
   EXPECT_EQ(first.cacheStats().built, 1u);
   EXPECT_EQ(first.cacheStats().loaded, 0u);
   const std::vector<fs::path> files = filesIn(dir);
   ASSERT_EQ(files.size(), 1u);  // no temp file left behind
-  EXPECT_EQ(files[0].filename(), objectCacheFileName(objectCacheKey(sphere, fast())));
+  EXPECT_EQ(files[0].filename(),
+            objectCacheFileName(objectCacheKey(sphere, test::objectSdfResolution(16))));
 
-  ObjectLibrary second(fast(), dir);
+  ObjectLibrary second(test::objectSdfResolution(16), dir);
   const ObjectSdf& loaded = second.mesh(second.add("s", sphere));
   EXPECT_EQ(second.cacheStats().built, 0u);
   EXPECT_EQ(second.cacheStats().loaded, 1u);
@@ -97,7 +93,7 @@ TEST(ObjectLibrary, DiskCacheHitsSkipTheBuildAndCorruptFilesAreRebuilt) {
   EXPECT_EQ(second.version(), 1u);
 
   // Different settings or a different mesh: a different file, built.
-  ObjectSdfSettings padded = fast();
+  ObjectSdfSettings padded = test::objectSdfResolution(16);
   padded.padVoxels = 3;
   ObjectLibrary other(padded, dir);
   other.add("s", sphere);
@@ -116,7 +112,7 @@ TEST(ObjectLibrary, DiskCacheHitsSkipTheBuildAndCorruptFilesAreRebuilt) {
     f.put(char(c ^ 0x5a));
   }
   testing::internal::CaptureStderr();
-  ObjectLibrary third(fast(), dir);
+  ObjectLibrary third(test::objectSdfResolution(16), dir);
   const ObjectSdf& rebuilt = third.mesh(third.add("s", sphere));
   const std::string warning = testing::internal::GetCapturedStderr();
   EXPECT_EQ(third.cacheStats().corrupt, 1u);
@@ -126,14 +122,14 @@ TEST(ObjectLibrary, DiskCacheHitsSkipTheBuildAndCorruptFilesAreRebuilt) {
   EXPECT_EQ(std::count(warning.begin(), warning.end(), '\n'), 1) << warning;
   expectSame(built, rebuilt);
 
-  ObjectLibrary fourth(fast(), dir);
+  ObjectLibrary fourth(test::objectSdfResolution(16), dir);
   fourth.add("s", sphere);
   EXPECT_EQ(fourth.cacheStats().loaded, 1u);
 
   // Truncated: also a miss with a warning, never an exception.
   fs::resize_file(files[0], 50);
   testing::internal::CaptureStderr();
-  ObjectLibrary fifth(fast(), dir);
+  ObjectLibrary fifth(test::objectSdfResolution(16), dir);
   expectSame(built, fifth.mesh(fifth.add("s", sphere)));
   EXPECT_NE(testing::internal::GetCapturedStderr().find("shorter"), std::string::npos);
   EXPECT_EQ(fifth.cacheStats().corrupt, 1u);

@@ -9,6 +9,7 @@
 
 #include "objects/object_sdf.h"
 #include "objects/primitive_meshes.h"
+#include "tests/support/object_sdf_settings.h"
 #include "tests/support/test_data.h"
 #include "tests/world/mesh_fixtures.h"
 #include "world/gltf_import.h"
@@ -29,12 +30,6 @@ double sdBox(glm::dvec3 p, glm::dvec3 half) {
 double bruteForceSigned(const TriangleScene& mesh, glm::dvec3 p) {
   const double d = test::bruteForceDistance(mesh, p);
   return test::windingNumber(mesh, p) > 0.5 ? -d : d;
-}
-
-ObjectSdfSettings resolution(std::uint32_t max) {
-  ObjectSdfSettings s;
-  s.maxResolution = max;
-  return s;
 }
 
 TEST(ObjectSdf, BoxEqualsAnalyticDistanceAtEverySample) {
@@ -65,7 +60,8 @@ TEST(ObjectSdf, BoxEqualsAnalyticDistanceAtEverySample) {
 
 TEST(ObjectSdf, BoxTrilinearWithinInterpolationBoundAtRandomPoints) {
   const glm::vec3 half(0.3f, 0.5f, 0.2f);
-  const ObjectSdf sdf = buildObjectSdf(makeBoxMesh(half, glm::vec4(0.5f)), resolution(32));
+  const ObjectSdf sdf =
+      buildObjectSdf(makeBoxMesh(half, glm::vec4(0.5f)), test::objectSdfResolution(32));
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   // Trilinear interpolation of a 1-Lipschitz field errs by at most the weighted distance to the
@@ -94,7 +90,7 @@ TEST(ObjectSdf, SphereMatchesBruteForceAndAnalyticWithinTessellation) {
   const float r = 0.6f;
   const std::uint32_t segments = 24;
   const TriangleScene mesh = makeSphereMesh(r, glm::vec4(0.5f), segments);
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(48));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(48));
   ASSERT_TRUE(sdf.closed);
   // The faces lie inside the sphere by at most r − (closest approach of the mesh to the centre),
   // measured here from the triangles, so signed(mesh) − signed(sphere) ∈ [0, gap].
@@ -130,7 +126,7 @@ TEST(ObjectSdf, RotatedBoxMatchesBruteForce) {
       glm::mat3_cast(glm::angleAxis(0.6f, glm::normalize(glm::vec3(1, 2, 3))));
   const TriangleScene mesh =
       test::rotatedBox(glm::vec3(1, 2, 3), glm::vec3(0.5f, 0.3f, 0.2f), rotation);
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(32));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(32));
   std::mt19937 rng(3);
   std::uniform_int_distribution<std::uint32_t> ux(0, sdf.dims.x - 1), uy(0, sdf.dims.y - 1),
       uz(0, sdf.dims.z - 1);
@@ -166,7 +162,7 @@ TriangleScene torus(float major, float minor, std::uint32_t around, std::uint32_
 TEST(ObjectSdf, ConcaveTorusMatchesBruteForce) {
   const TriangleScene mesh = torus(0.6f, 0.2f, 32, 12);
   ASSERT_TRUE(isClosedMesh(mesh));
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(40));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(40));
   ASSERT_TRUE(sdf.closed);
   std::mt19937 rng(17);
   std::uniform_int_distribution<std::uint32_t> ux(0, sdf.dims.x - 1), uy(0, sdf.dims.y - 1),
@@ -191,7 +187,7 @@ TEST(ObjectSdf, ManyTriangleOpenMeshMatchesBruteForce) {
       test::assimpModels() / "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
   if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " absent";
   const TriangleScene mesh = loadGltf(file);
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(48));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(48));
   EXPECT_FALSE(sdf.closed);
   std::mt19937 rng(23);
   std::uniform_int_distribution<std::uint32_t> ux(0, sdf.dims.x - 1), uy(0, sdf.dims.y - 1),
@@ -207,7 +203,7 @@ TEST(ObjectSdf, ManyTriangleOpenMeshMatchesBruteForce) {
 
 TEST(ObjectSdf, OpenSheetIsUnsignedMinusHalfAVoxel) {
   const TriangleScene mesh = test::quadSheet(0.5f, 0.25f);
-  const ObjectSdf sdf = buildObjectSdf(mesh, resolution(24));
+  const ObjectSdf sdf = buildObjectSdf(mesh, test::objectSdfResolution(24));
   EXPECT_FALSE(sdf.closed);
   EXPECT_EQ(sdf.dims.z, 1u + 2 * ObjectSdfSettings{}.padVoxels);  // flat axis: 1 sample + pads
   for (std::size_t i = 0; i < sdf.sampleCount(); ++i) {

@@ -6,15 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "objects/scripted_motion.h"
+#include "tests/support/object_sdf_settings.h"
 
 namespace sdfstream {
 namespace {
-
-ObjectSdfSettings fast() {
-  ObjectSdfSettings s;
-  s.minResolution = s.maxResolution = 8;
-  return s;
-}
 
 TEST(ScriptedMotion, OrbitKeepsItsRadiusAndPeriod) {
   ScriptedMotion motion;
@@ -133,7 +128,7 @@ std::vector<std::pair<std::uint32_t, ObjectTransform>> snapshot(const InstanceSe
 
 TEST(SpreadObjects, DeterministicFromTheSeedAndSpreadOverTheArea) {
   const WorldBox area{glm::dvec3(-50, 0, -50), glm::dvec3(50, 20, 50)};
-  ObjectLibrary libA(fast()), libB(fast());
+  ObjectLibrary libA(test::objectSdfResolution(8, 8)), libB(test::objectSdfResolution(8, 8));
   InstanceSet a, b, c;
   const ScriptedMotion ma = spreadObjects(a, libA, 600, area, 1234);
   const ScriptedMotion mb = spreadObjects(b, libB, 600, area, 1234);
@@ -180,7 +175,7 @@ TEST(SpreadObjects, DeterministicFromTheSeedAndSpreadOverTheArea) {
 }
 
 TEST(SpreadObjects, BadAreaThrows) {
-  ObjectLibrary lib(fast());
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
   InstanceSet set;
   EXPECT_THROW(spreadObjects(set, lib, 3, WorldBox{glm::dvec3(1), glm::dvec3(0)}, 1),
                std::invalid_argument);

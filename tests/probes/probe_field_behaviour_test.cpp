@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/gpu/gpu_test_fixture.h"
 #include "tests/probes/gi_harness.h"
 #include "tests/probes/probe_field_checks.h"
 #include "tests/support/analytic_stack.h"
+#include "tests/support/gpu_test.h"
 #include "tests/support/streamed_bunny.h"
 
 namespace sdfstream::probe {

@@ -11,7 +11,7 @@
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 
 namespace sdfstream::probe {
 namespace {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "reference/path_tracer.h"
+#include "shaders/shared/light_layout.h"
 #include "tests/reference/test_scenes.h"
 
 namespace sdfstream::reference {

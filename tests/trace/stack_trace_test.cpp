@@ -10,7 +10,7 @@
 #include "gi/gpu_stack_tracer.h"
 #include "reference/embree_scene.h"
 #include "streaming/pack_store.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 #include "tests/support/streamed_bunny.h"
 #include "tests/support/test_data.h"
 #include "tests/trace/trace_fixture.h"

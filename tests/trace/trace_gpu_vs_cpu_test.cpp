@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "gi/gpu_tracer.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 #include "tests/trace/trace_fixture.h"
 
 namespace sdfstream {

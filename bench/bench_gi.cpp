@@ -1,0 +1,259 @@
+#include "bench/bench_gi.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <optional>
+
+#include "bench/bench_gi_configs.h"
+#include "bench/bench_gi_points.h"
+#include "bench/bench_gi_report.h"
+#include "bench/bench_gi_run.h"
+#include "bench/bench_gi_scenes.h"
+#include "core/stopwatch.h"
+#include "demo/frame_image.h"
+#include "reference/irradiance_cache.h"
+#include "reference/metrics.h"
+
+namespace sdfstream::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// The scene's configurations: the sweep (or the GPU table's), filtered by --configs.
+std::vector<GiConfig> configsToRun(const BenchScene& scene, const GiBenchOptions& opt) {
+  std::vector<GiConfig> run =
+      opt.gpuTable ? gpuTableConfigs(scene) : sweepConfigs(scene, opt.quick);
+  if (!opt.only.empty())
+    std::erase_if(run, [&](const GiConfig& c) {
+      return std::find(opt.only.begin(), opt.only.end(), c.name) == opt.only.end();
+    });
+  return run;
+}
+
+// The reference irradiance at every point (cached on disk), its own noise, and the noise floor
+// of both metrics from a second reference of another seed; writes the reference images.
+void computeReference(const BenchScene& scene, const reference::PathTracer& tracer,
+                      const GiBenchOptions& opt, const fs::path& sceneDir, ViewPoints& points,
+                      SceneReport& rep, Clock::time_point refStart) {
+  reference::CacheOutcome outcome;
+  const auto est =
+      reference::cachedIrradiance(opt.out / "reference", tracer, points.position, points.normal,
+                                  opt.samples, reference::IrradianceKind::NoDirectLights, &outcome);
+  double noise = 0.0;
+  for (const auto& x : est) {
+    points.reference.push_back(x.mean);
+    double e = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double s = double(x.halfWidth95[c]) / 1.96;
+      e += s * s / (double(x.mean[c]) * double(x.mean[c]) + 1e-2);
+    }
+    noise += e / 3.0;
+  }
+  rep.referenceNoise = est.empty() ? 0.0 : noise / double(est.size());
+  rep.referenceCache =
+      outcome == reference::CacheOutcome::Loaded ? "loaded from cache" : "computed";
+  rep.referenceSamples = opt.samples;
+  rep.referenceSeconds = secondsSince(refStart);
+  std::printf("  reference: %zu points x %u paths (%s, %.1f s); its own noise, as relMSE: %.2e\n",
+              points.position.size(), opt.samples, rep.referenceCache.c_str(), rep.referenceSeconds,
+              rep.referenceNoise);
+  // A second, independent reference (another seed, same samples): how far two references
+  // differ is the floor below which differences between configurations are noise.
+  reference::PathTracerSettings other;
+  other.seed = 2;
+  reference::PathTracer tracer2(*scene.triangles, scene.lights, other);
+  const auto est2 =
+      reference::cachedIrradiance(opt.out / "reference", tracer2, points.position, points.normal,
+                                  opt.samples, reference::IrradianceKind::NoDirectLights);
+  std::vector<glm::vec3> second;
+  for (const auto& x : est2) second.push_back(x.mean);
+  rep.floorRelMSE = reference::relMSE(second, points.reference);
+  for (std::size_t k = 0; k < points.views(); ++k) {
+    const auto img = shadedImage(points, k, points.reference);
+    double sum = 0.0;
+    for (const glm::vec3& c : img) sum += luminance(c);
+    const double mean =
+        sum / double(std::max<std::size_t>(1, points.start[k + 1] - points.start[k]));
+    points.exposure.push_back(mean > 0.0 ? float(0.18 / mean) : 1.0f);
+    writeToneMappedPng(sceneDir / (points.names[k] + "-reference.png"), img, points.width,
+                       points.height, points.exposure.back());
+    rep.floorFlip += reference::flip(reference::toneMapAces(img, points.exposure.back()),
+                                     reference::toneMapAces(shadedImage(points, k, second),
+                                                            points.exposure.back()),
+                                     points.width, points.height)
+                         .mean /
+                     double(points.views());
+  }
+  std::printf("  two independent references differ by relMSE %.4f, FLIP %.4f (noise floor)\n",
+              rep.floorRelMSE, rep.floorFlip);
+}
+
+// The points to compare at: on the source triangles (with the reference there, unless only the
+// GPU table is made), or for the large world from our own SDF.
+ViewPoints comparisonPoints(gpu::Context& ctx, const BenchScene& scene, const GiBenchOptions& opt,
+                            const std::map<int, StreamedStack>& stacks, const fs::path& sceneDir,
+                            SceneReport& rep) {
+  if (!scene.triangles) {
+    const StreamedStack& st = stacks.begin()->second;
+    return sdfVisiblePoints(ctx, scene, *st.stack, st.allSlots, opt.width, opt.height);
+  }
+  const auto refStart = Clock::now();
+  reference::PathTracer tracer(*scene.triangles, scene.lights);
+  EmbreeScene embree(*scene.triangles);
+  ViewPoints points = visiblePoints(scene, tracer, embree, opt.width, opt.height);
+  if (!opt.gpuTable) computeReference(scene, tracer, opt, sceneDir, points, rep, refStart);
+  return points;
+}
+
+// One probe query per point, and at most 1024 of them for the convergence test.
+void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize) {
+  const ViewPoints& points = sc.points;
+  for (std::size_t i = 0; i < points.position.size(); ++i) {
+    std::size_t k = 0;
+    while (points.start[k + 1] <= i) ++k;
+    const glm::vec3 toCamera = glm::normalize(points.cameras[k].position - points.position[i]);
+    // Half a LOD-0 voxel off the triangle, towards the viewer: where the SDF's own surface
+    // is for open sheets (mesh_to_sdf.h: unsigned distance minus half a voxel), i.e. where the
+    // GI's renderer would shade; the true irradiance barely changes over that distance.
+    const glm::dvec3 at = glm::dvec3(points.position[i]) +
+                          glm::dvec3(points.normal[i]) * (sc.opt.queryOffsetVoxels * voxelSize);
+    gpu_shared::ProbeQuery q{glm::vec4(img.toStack(at), 0.0f), glm::vec4(points.normal[i], 0.0f),
+                             glm::vec4(toCamera, 0.0f)};
+    sc.queries.push_back(q);
+  }
+  const std::size_t stride = std::max<std::size_t>(1, points.position.size() / 1024);
+  for (std::size_t i = 0; i < points.position.size(); i += stride) {
+    sc.testQueries.push_back(sc.queries[i]);
+    sc.testIndex.push_back(i);
+  }
+}
+
+// Every configuration in turn; the default and plain DDGI also get images per view.
+void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::path& sceneDir,
+                SceneReport& rep) {
+  const ViewPoints& points = sc.points;
+  for (const GiConfig& c : run) {
+    std::vector<glm::vec3> e;
+    const bool isDefault = c.name == "default", isBaseline = c.name == "plain-ddgi";
+    ConfigResult r = runConfig(sc, c, &e, isDefault && !sc.opt.gpuTable ? &rep : nullptr);
+    std::printf(
+        "    %-22s update %8.2f ms  sample %7.2f ms  relMSE %8.4f  FLIP %.4f  E/Eref %.3f  "
+        "converge %3d  %6.1f MiB  (%.0f s)\n",
+        c.name.c_str(), r.updateMs, r.sampleMs, r.relMSE, r.flip, r.energyRatio, r.framesToConverge,
+        r.memoryMiB(), r.wallSeconds);
+    std::fflush(stdout);
+    if ((isDefault || isBaseline) && !points.reference.empty())
+      for (std::size_t k = 0; k < points.views(); ++k)
+        writeToneMappedPng(sceneDir / (points.names[k] + "-" + c.name + ".png"),
+                           shadedImage(points, k, e), points.width, points.height,
+                           points.exposure[k]);
+    rep.configs.push_back(std::move(r));
+  }
+}
+
+SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::string& name) {
+  const auto start = Clock::now();
+  SceneReport rep;
+  rep.name = name;
+  std::string skip;
+  std::optional<BenchScene> scene = loadBenchScene(name, opt.data, opt.largeWorld, &skip);
+  if (!scene) {
+    std::printf("  %s\n", skip.c_str());
+    rep.skipped = skip;
+    return rep;
+  }
+  if (opt.gpuTable && scene->views.size() > 1) {  // the table samples one full-HD view
+    scene->views.resize(1);
+    scene->viewNames.resize(1);
+  }
+  rep.description = scene->description;
+  rep.voxelSize = scene->voxelSize;
+  rep.lods = scene->lods;
+  rep.warmupFrames = opt.warmup;
+  rep.measuredFrames = opt.measured;
+  const fs::path sceneDir = opt.out / name;
+  fs::create_directories(sceneDir);
+
+  const fs::path pack = benchScenePack(*scene, opt.out / "packs", &rep.importSeconds);
+  std::printf("  pack %s (%s)\n", pack.c_str(),
+              rep.importSeconds > 0
+                  ? ("imported in " + std::to_string(rep.importSeconds) + " s").c_str()
+                  : "cached");
+  PackTileStore store(pack);
+  TileLoader loader(store);
+  std::map<int, StreamedStack> stacks;
+  const std::vector<GiConfig> run = configsToRun(*scene, opt);
+  for (const GiConfig& c : run)
+    if (!stacks.count(c.cascades))
+      stacks.emplace(c.cascades, streamStack(store, loader, *scene, c.cascades));
+
+  ViewPoints points = comparisonPoints(ctx, *scene, opt, stacks, sceneDir, rep);
+  rep.points = points.position.size();
+  rep.views = int(points.views());
+  rep.width = opt.width;
+  rep.height = opt.height;
+
+  SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}};
+  addQueries(sc, stacks.begin()->second.stack->stackImage(), scene->voxelSize);
+  runConfigs(sc, run, sceneDir, rep);
+  rep.seconds = secondsSince(start);
+  return rep;
+}
+
+}  // namespace
+
+void applyGiBenchModeDefaults(GiBenchOptions& opt) {
+  if (opt.quick) {
+    opt.width = 96;
+    opt.height = 72;
+    opt.samples = 256;
+    opt.warmup = 8;  // Cornell, spacing 2: relMSE at frame 8 is within 5% of frame 40's
+    opt.measured = 4;
+    opt.offFrames = 3;
+    opt.convergeCap = 16;
+  }
+  if (opt.gpuTable) {
+    opt.width = 1920;
+    opt.height = 1080;
+    opt.warmup = 16;
+    opt.measured = 8;
+    opt.convergeCap = 0;
+  }
+}
+
+std::vector<std::string> defaultGiBenchScenes(const GiBenchOptions& opt) {
+  if (opt.quick)
+    return {"cornell-box", fs::exists(opt.data / "breakfast-room") ? "breakfast-room" : "bunny"};
+  if (opt.gpuTable) return {"sponza"};
+  return {"cornell-box", "sponza", "breakfast-room", "large-world"};
+}
+
+int runGiBench(const GiBenchOptions& opt) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a pipe as they happen
+  const auto start = Clock::now();
+  std::unique_ptr<gpu::Context> context = gpu::Context::create(opt.device);
+  RunInfo info;
+  info.device = context->deviceName();
+  info.mode = opt.gpuTable ? "gpu-table" : opt.quick ? "quick" : "full";
+  info.command = opt.command;
+  std::printf("bench gi (%s) on %s -> %s\n", info.mode.c_str(), info.device.c_str(),
+              opt.out.c_str());
+  fs::create_directories(opt.out);
+
+  std::vector<SceneReport> reports;
+  for (const std::string& name : opt.scenes) reports.push_back(runScene(*context, opt, name));
+  info.seconds = secondsSince(start);
+  if (opt.gpuTable) {
+    for (const SceneReport& r : reports)
+      if (r.skipped.empty()) writeGpuTable(opt.out, r, info);
+  } else {
+    writeBenchGiOutputs(opt.out, reports, info);
+  }
+  std::printf("bench gi: %.0f s; wrote %s\n", info.seconds, opt.out.c_str());
+  return 0;
+}
+
+}  // namespace sdfstream::bench

@@ -1,0 +1,111 @@
+#include "bench/bench_gi_configs.h"
+
+namespace sdfstream::bench {
+
+using probe::ProbeFieldSettings;
+
+const char* visibilityName(ProbeFieldSettings::Visibility v) {
+  switch (v) {
+    case ProbeFieldSettings::Visibility::Chebyshev:
+      return "chebyshev";
+    case ProbeFieldSettings::Visibility::Sdf:
+      return "sdf";
+    case ProbeFieldSettings::Visibility::ChebyshevAndSdf:
+      return "chebyshev+sdf";
+  }
+  return "?";
+}
+
+ProbeFieldSettings plainDdgi() {
+  ProbeFieldSettings s;
+  s.spacingBricks = 1;
+  s.relocation = false;
+  s.states = false;
+  s.hitCache = false;
+  s.visibility = ProbeFieldSettings::Visibility::Chebyshev;
+  return s;
+}
+
+std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
+  std::vector<GiConfig> out;
+  const int cascades = scene.defaultCascades;
+  auto add = [&](std::string name, std::string family, std::string change, ProbeFieldSettings s,
+                 int c, bool converge) {
+    const std::string base = change.empty()           ? ""
+                             : family == "plain-ddgi" ? "plain-ddgi"
+                                                      : "default";
+    out.push_back({std::move(name), std::move(family), std::move(change), s, c, converge, base});
+  };
+  const ProbeFieldSettings def;
+  add("default", "ours", "", def, cascades, !quick);
+  add("plain-ddgi", "plain-ddgi", "", plainDdgi(), cascades, !quick);
+  const std::vector<std::uint32_t> rays =
+      quick ? std::vector<std::uint32_t>{32} : std::vector<std::uint32_t>{32, 64, 256};
+  for (std::uint32_t r : rays) {
+    ProbeFieldSettings s = def;
+    s.raysPerProbe = r;
+    add("rays-" + std::to_string(r), "ours", "rays " + std::to_string(r), s, cascades, !quick);
+  }
+  for (std::uint32_t sp : {2u, 4u}) {
+    ProbeFieldSettings s = def;
+    s.spacingBricks = sp;
+    add("spacing-" + std::to_string(sp), "ours", "spacing " + std::to_string(sp) + " bricks", s,
+        cascades, !quick || sp == 2);
+  }
+  if (!quick)
+    for (int c : scene.cascadeSweep)
+      if (c != cascades)
+        add("cascades-" + std::to_string(c), "ours", std::to_string(c) + " cascades", def, c, true);
+  {
+    ProbeFieldSettings base = def;
+    std::string prefix;
+    if (quick) {
+      base.spacingBricks = 2;
+      prefix = "spacing-2-";
+    }
+    ProbeFieldSettings s = base;
+    s.hitCache = false;
+    add(prefix + "no-hit-cache", "ours", "hit cache off", s, cascades, !quick);
+    s = base;
+    s.states = false;
+    add(prefix + "no-states", "ours", "states off", s, cascades, !quick);
+    s = base;
+    s.relocation = false;
+    add(prefix + "no-relocation", "ours", "relocation off", s, cascades, !quick);
+    s = base;
+    s.visibility = ProbeFieldSettings::Visibility::Chebyshev;
+    add(prefix + "vis-chebyshev", "ours", "visibility chebyshev", s, cascades, !quick);
+    s.visibility = ProbeFieldSettings::Visibility::Sdf;
+    add(prefix + "vis-sdf", "ours", "visibility sdf", s, cascades, !quick);
+    if (quick)
+      for (GiConfig& c : out)
+        if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
+  }
+  if (!quick) {
+    ProbeFieldSettings s = def;
+    s.spacingBricks = 2;
+    s.raysPerProbe = 64;
+    add("spacing-2-rays-64", "ours", "spacing 2, rays 64", s, cascades, true);
+    s.raysPerProbe = 256;
+    add("spacing-2-rays-256", "ours", "spacing 2, rays 256", s, cascades, true);
+  }
+  for (std::uint32_t r : rays) {
+    ProbeFieldSettings s = plainDdgi();
+    s.raysPerProbe = r;
+    add("plain-ddgi-rays-" + std::to_string(r), "plain-ddgi", "rays " + std::to_string(r), s,
+        cascades, !quick);
+  }
+  return out;
+}
+
+std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
+  // SDFDDGI's Sponza grid is 22 x 14 x 32 = 9,856 probes; our grids are 17³ per cascade at one
+  // probe per brick, so 2 cascades (9,826 probes) is the nearest count we can run.
+  const ProbeFieldSettings def;
+  return {
+      {"sdfddgi-probe-count", "ours", "2 cascades x 17³ = 9,826 probes", def, 2, false, "default"},
+      {"default", "ours", "", def, scene.defaultCascades, false, ""},
+      {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
+}
+
+}  // namespace sdfstream::bench

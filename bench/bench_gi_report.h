@@ -1,0 +1,81 @@
+// What `sdfstream bench gi` measured, and how it is written: results.csv (one row per scene x
+// configuration), summary.md (tables, Pareto fronts, the default-vs-plain-DDGI verdict per scene,
+// the peer table) and one error-vs-time PNG per scene (demo/plot.h).
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/bench_gi_peers.h"
+
+namespace sdfstream::bench {
+
+struct ConfigResult {
+  std::string config;  // "default", "plain-ddgi", "rays-32", ...
+  std::string family;  // "ours" (default switches) or "plain-ddgi" (baseline switches)
+  std::string change;  // what differs from `base`, for the ablation table ("" = a base itself)
+  std::string base;    // "default", "spacing-2" (quick mode's switch ablations), "plain-ddgi"
+  std::uint32_t rays = 0, spacing = 1, cascades = 0;
+  bool hitCache = false, states = false, relocation = false;
+  std::string visibility;
+  std::size_t probes = 0;
+  // GPU milliseconds, medians over the measured frames.
+  double updateMs = 0.0;                         // every probe pass of one update
+  double sampleMs = 0.0;                         // probe_sample for one view's visible points
+  double frameMs = 0.0;                          // updateMs + sampleMs: the x axis of the plots
+  double frameBestMs = 0.0, frameWorstMs = 0.0;  // fastest / slowest measured frame
+  double sampleNsPerQuery = 0.0;
+  double lightRelightMs = 0.0;  // light cache relighting every resident page (light change)
+  std::map<std::string, double> passMs;  // per probe pass
+  // Work per frame (medians).
+  double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;
+  // Error against the path-traced reference at the visible points of every view.
+  double relMSE = -1.0;       // < 0: no reference
+  double flip = -1.0;         // mean over views
+  double energyRatio = 0.0;   // mean luminance of E over mean of E_ref: bias apart from noise
+  int framesToConverge = -1;  // after the light switches back on; -1 = not within the cap
+  int convergeCap = 0;
+  // Device memory, MiB.
+  double probeMiB = 0, lightMiB = 0, atlasMiB = 0;
+  double memoryMiB() const { return probeMiB + lightMiB + atlasMiB; }
+  double wallSeconds = 0.0;  // everything this configuration took on this machine
+  bool pareto = false;
+};
+
+struct SceneReport {
+  std::string name, description;
+  std::string skipped;  // non-empty: the scene did not run, and why
+  double voxelSize = 0.0;
+  int lods = 0;
+  double importSeconds = 0.0, referenceSeconds = 0.0;
+  std::string referenceCache;  // "computed" / "loaded"
+  std::size_t points = 0;
+  int views = 0, width = 0, height = 0;
+  std::uint32_t referenceSamples = 0;
+  double referenceNoise = 0.0;  // expected relMSE of the reference itself (from its 95% CIs)
+  double floorRelMSE = 0.0, floorFlip = 0.0;  // between two references of different seeds
+  int warmupFrames = 0, measuredFrames = 0;
+  std::vector<ConfigResult> configs;
+  std::vector<PeerResult> peers;
+  std::size_t peerRays = 0;
+  std::string peerRaySet;
+  double seconds = 0.0;
+};
+
+struct RunInfo {
+  std::string device, mode, command;
+  double seconds = 0.0;
+};
+
+// Marks each scene's Pareto front (minimise frameMs and relMSE; without a reference, frameMs and
+// memory) and writes everything into outDir. Throws InputError(Io) when a file cannot be written.
+void writeBenchGiOutputs(const std::filesystem::path& outDir, std::vector<SceneReport>& scenes,
+                         const RunInfo& run);
+
+// The real-GPU table (scripts/bench-gpu): absolute per-pass times of a few configurations.
+void writeGpuTable(const std::filesystem::path& outDir, const SceneReport& scene,
+                   const RunInfo& run);
+
+}  // namespace sdfstream::bench

@@ -1,0 +1,34 @@
+// One configuration of `sdfstream bench gi` on one scene, start to finish (bench/bench_gi.h has
+// the whole run): a fresh GiSystem on the scene's settled stack, warm-up frames, measured frames,
+// the error against the reference, the traversal peers (optional) and the light switch.
+#pragma once
+
+#include <map>
+#include <vector>
+
+#include "bench/bench_gi.h"
+#include "bench/bench_gi_configs.h"
+#include "bench/bench_gi_points.h"
+#include "bench/bench_gi_report.h"
+#include "bench/bench_gi_scenes.h"
+#include "shaders/shared/probe_layout.h"
+
+namespace sdfstream::bench {
+
+// What every configuration of a scene shares.
+struct SceneContext {
+  gpu::Context& ctx;
+  const GiBenchOptions& opt;
+  const BenchScene& scene;
+  std::map<int, StreamedStack>& stacks;  // by cascade count
+  ViewPoints& points;
+  std::vector<gpu_shared::ProbeQuery> queries, testQueries;  // one per point; <= 1024 of them
+  std::vector<std::size_t> testIndex;                        // testQueries[i] is point testIndex[i]
+};
+
+// Runs `cfg`. `keep` receives the final irradiance at every point; with peersInto the traversal
+// peers run on this configuration's probe rays and their results go there.
+ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
+                       SceneReport* peersInto);
+
+}  // namespace sdfstream::bench

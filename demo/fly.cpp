@@ -1,0 +1,258 @@
+#include "demo/fly.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "core/atomic_dir.h"
+#include "core/stopwatch.h"
+#include "demo/fly_path.h"
+#include "demo/fly_report.h"
+#include "demo/frame_image.h"
+#include "demo/gi_shading.h"
+#include "demo/moving_objects.h"
+#include "gi/camera.h"
+#include "streaming/cascade_stack.h"
+#include "streaming/pack_store.h"
+#include "streaming/stream_metrics.h"
+
+namespace fs = std::filesystem;
+
+namespace sdfstream {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Exposure added to the indirect-only layer of --layers (stops).
+constexpr float kIndirectLayerStops = 2.0f;
+
+StreamingOptions streamingOptions(const FlyOptions& o) {
+  StreamingOptions so;
+  so.cascades = o.cascades;
+  const std::size_t slotBytes = 4 * (layout::kBrickDistanceWords + 2 * layout::kBrickMaterialCount);
+  so.atlasSlots = std::uint32_t(o.atlasMiB * double(1 << 20) / slotBytes);
+  so.uploadBytesPerFrame = std::size_t(o.uploadMiB * double(1 << 20));
+  return so;
+}
+
+LoaderOptions loaderOptions(const FlyOptions& o) {
+  LoaderOptions lo;
+  lo.threads = o.loaderThreads;
+  return lo;
+}
+
+RenderOptions renderOptionsFor(const FlyOptions& o, const gpu::Context* context) {
+  RenderOptions render = o.render;
+  resolveProbeBudget(render.renderer.settings, context);
+  return render;
+}
+
+// One fly-through, set up by the constructor (pack, path, device, stack, renderer, objects) and
+// run in steps: warmUp, fly (every frame), writeOutputs.
+class FlyThrough {
+ public:
+  explicit FlyThrough(const FlyOptions& o)
+      : o_(o),
+        store_(o.world),
+        path_(o.path ? readFlyPath(*o.path)
+                     : defaultFlyPath(store_.manifest().boundsMin, store_.manifest().boundsMax)),
+        length_(path_.length()),
+        context_(o.device ? gpu::Context::create(*o.device) : nullptr),
+        render_(renderOptionsFor(o, context_.get())),
+        loader_(store_, loaderOptions(o)),
+        stack_(store_, loader_, streamingOptions(o)) {
+    if (context_)
+      renderer_ = std::make_unique<GiRenderer>(*context_, render_.renderer,
+                                               std::uint32_t(stack_.cascadeCount()));
+    if (renderer_ && o.objects > 0) placeObjects();
+    fs::create_directories(o.out / "frames");
+  }
+
+  void printStart() const {
+    std::printf(
+        "fly: %s, %d frames along %.0f m at %.1f m/s, %d cascades, atlas %.0f MiB, GI %s "
+        "(%u probe rays per frame), %zu moving objects, on %s\n",
+        o_.world.c_str(), o_.frames, length_, o_.speed, stack_.cascadeCount(),
+        double(stack_.atlasBytes()) / (1 << 20), render_.gi ? "on" : "off",
+        render_.renderer.settings.probes.rayBudget, objects_ ? objects_->instances.size() : 0,
+        context_ ? context_->deviceName().c_str() : "CPU reference");
+  }
+
+  // GI frames at the start of the path, streaming too; their loader stats stay out of the
+  // metrics.
+  void warmUp() {
+    for (int w = 0; w < o_.warmupGiFrames; ++w) {
+      const Camera cam = cameraAt(0.0);
+      if (objects_) objects_->apply(0.0);
+      stack_.update(cam.position, glm::normalize(cam.target - cam.position));
+      giUpdate(cam);
+    }
+    if (o_.warmupGiFrames > 0) loader_.takeStats();
+  }
+
+  // Frames are paced at 30 per wall-clock second (unless pacing is off) so the loader threads get
+  // the same real time per frame as they would in an interactive application.
+  void fly() {
+    const auto start = Clock::now();
+    for (int f = 0; f < o_.frames; ++f) {
+      const double seconds = f / 30.0;
+      if (o_.pacing)
+        std::this_thread::sleep_until(start +
+                                      std::chrono::microseconds(std::int64_t(seconds * 1e6)));
+      frame(f, seconds);
+      const FrameMetrics& m = metrics_.back();
+      if (f % std::max(1, o_.frames / 10) == 0 || f == o_.frames - 1)
+        std::fprintf(stderr, "  frame %d/%d: %u missing pages, %zu tiles cached\n", f + 1,
+                     o_.frames, m.stream.missingPages, m.loader.cachedTiles);
+    }
+  }
+
+  // metrics.csv, gi.csv, summary.md and the charts; 1 when tiles failed to load.
+  int writeOutputs() const {
+    writeMetricsCsv(o_.out / "metrics.csv", metrics_);
+    const MetricsSummary summary = summarize(metrics_);
+    writeGiCsv(o_.out / "gi.csv", giMetrics_);
+    const bool gi = renderer_ && renderer_->giEnabled();
+    const std::string giMd = giSummaryMarkdown(giMetrics_, gi, render_.renderer.settings.probes,
+                                               renderer_ ? renderer_->probeDeviceBytes() : 0) +
+                             objectSummaryMarkdown(giMetrics_, gi);
+    std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() + "\n\n" +
+                     summaryMarkdown(summary) + giMd;
+    const auto failed = loader_.failedTiles();
+    if (!failed.empty()) {
+      md += "\nTiles that failed to load (reported, never treated as empty):\n";
+      for (const TileKey& k : failed)
+        md += "- tile " + std::to_string(k.coord.x) + "_" + std::to_string(k.coord.y) + "_" +
+              std::to_string(k.coord.z) + " LOD " + std::to_string(k.lod) + "\n";
+    }
+    writeFileAtomically(o_.out / "summary.md", md.data(), md.size());
+    writeFlyPlots(o_.out, metrics_);
+    std::printf(
+        "fly: wrote %s (metrics.csv, gi.csv, summary.md, residency.png, bytes.png, "
+        "frames/)\n%s%s",
+        o_.out.c_str(), summaryMarkdown(summary).c_str(), giMd.c_str());
+    return failed.empty() ? 0 : 1;
+  }
+
+ private:
+  // The objects spread over the stretch the camera flies, from a little ahead of its start to
+  // a little beyond its end (the camera looks ahead and down), on the pack's ground.
+  void placeObjects() {
+    const PackManifest& manifest = store_.manifest();
+    PackGround ground(store_, manifest.boundsMin.y, manifest.boundsMax.y);
+    FlyObjectsSettings os;
+    os.count = o_.objects;
+    os.sBegin = std::min(15.0, length_);
+    os.sEnd = std::min(length_, o_.speed * (o_.frames - 1) / 30.0 + 90.0);
+    objects_ = flyObjects(ground, path_, os);
+    renderer_->setObjects(&objects_->library, &objects_->instances);
+  }
+
+  Camera cameraAt(double s) const {
+    Camera cam;
+    cam.position = path_.position(s);
+    const glm::dvec3 dir = path_.direction(s);
+    cam.target = cam.position + glm::normalize(dir + glm::dvec3(0.0, -0.25, 0.0)) * 10.0;
+    cam.fovYDegrees = 60.0;
+    return cam;
+  }
+
+  // One GI frame on the stack as it stands: sync the atlas slots the stack rewrote, relight,
+  // update the probes.
+  GiFrameStats giUpdate(const Camera& cam) {
+    std::vector<std::uint32_t> dirty = stack_.takeDirtySlots();
+    if (!renderer_) return GiFrameStats{};
+    probe::ProbeFrameInputs inputs;
+    inputs.cameraWorld = cam.position;
+    inputs.viewDirection = glm::vec3(glm::normalize(cam.target - cam.position));
+    return renderer_->update(stack_, dirty, render_.lights, inputs, giFrame_++);
+  }
+
+  // Stream, move the objects, update the GI, and render when this frame is written.
+  void frame(int f, double seconds) {
+    const Camera cam = cameraAt(o_.speed * seconds);
+    FrameMetrics m;
+    m.frame = f;
+    m.seconds = seconds;
+    m.camera = cam.position;
+    const auto t0 = Clock::now();
+    m.stream = stack_.update(cam.position, glm::normalize(cam.target - cam.position));
+    m.updateMilliseconds = millisecondsSince(t0);
+    GiFrameMetrics g;
+    g.frame = f;
+    if (objects_) objects_->apply(seconds);  // the GI update below consumes the moves
+    g.gi = giUpdate(cam);
+    if (renderer_) g.probePasses = renderer_->lastTimes().probePasses;
+    m.gpuBytes =
+        stack_.atlasBytes() + std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
+    if (f % o_.imageEvery == 0 || f == o_.frames - 1) render(f, cam, m, g);
+    giMetrics_.push_back(g);
+    m.loader = loader_.takeStats();
+    metrics_.push_back(std::move(m));
+  }
+
+  void render(int f, const Camera& cam, FrameMetrics& m, GiFrameMetrics& g) {
+    const CascadeStackImage img = stack_.stackImage();
+    HdrFrame frame;
+    if (renderer_) {
+      frame = renderer_->render(cam, o_.width, o_.height, img, render_.lights);
+      // The trace pass is now the shading pass: primary rays + their direct light.
+      m.traceMilliseconds = renderer_->lastTimes().shadeMilliseconds;
+      g.shadeMilliseconds = m.traceMilliseconds;
+      g.sampleMilliseconds = renderer_->lastTimes().sampleMilliseconds;
+      g.objectPixels = frame.objectHits;
+    } else {
+      const auto rays = cameraRays(cam, o_.width, o_.height, img);
+      const auto t1 = Clock::now();
+      frame = composeFrame(shadePrimaryCpu(img, rays, toGpu(render_.lights.lights, img),
+                                           toGpu(render_.lights.sky), render_.renderer.shading, {}),
+                           o_.width, o_.height, {}, {});
+      g.shadeMilliseconds = millisecondsSince(t1);
+    }
+    writeFrame(f, frame);
+  }
+
+  void writeFrame(int f, const HdrFrame& frame) const {
+    const int w = o_.width, h = o_.height;
+    const float ev = render_.exposureStops;
+    char name[64];
+    std::snprintf(name, sizeof name, "frame-%04d.png", f);
+    writePng(o_.out / "frames" / name, toneMap(frame.final(), w, h, ev));
+    if (!o_.layers) return;
+    std::snprintf(name, sizeof name, "frame-%04d-direct.png", f);
+    writePng(o_.out / "frames" / name, toneMap(frame.direct, w, h, ev));
+    // Outdoors the indirect light is a few percent of the sun's: 2 stops brighter, so its
+    // detail (the objects' indirect shadows) shows.
+    std::snprintf(name, sizeof name, "frame-%04d-indirect.png", f);
+    writePng(o_.out / "frames" / name, toneMap(frame.indirect, w, h, ev + kIndirectLayerStops));
+  }
+
+  const FlyOptions& o_;
+  PackTileStore store_;
+  FlyPath path_;
+  double length_;
+  std::unique_ptr<gpu::Context> context_;
+  RenderOptions render_;
+  TileLoader loader_;
+  CascadeStack stack_;
+  std::unique_ptr<GiRenderer> renderer_;
+  std::unique_ptr<DemoObjects> objects_;
+  std::uint64_t giFrame_ = 0;
+  std::vector<FrameMetrics> metrics_;
+  std::vector<GiFrameMetrics> giMetrics_;
+};
+
+}  // namespace
+
+int runFly(const FlyOptions& options) {
+  FlyThrough flight(options);
+  flight.printStart();
+  flight.warmUp();
+  flight.fly();
+  return flight.writeOutputs();
+}
+
+}  // namespace sdfstream
