@@ -1,5 +1,6 @@
 // The probe field's irradiance(x, n, view) (shaders/probe_field.glsl lists the pass files): the
-// queries of probe_sample.comp and the multi-bounce term of probe_trace.glsl. Reads only
+// queries of probe_sample.comp, the multi-bounce term of probe_trace.glsl and engines' own
+// shaders (shaders/include/sdfstream/probe_sample.glsl, installed). Reads only
 //   PROBE_VOLUME(c)  -> ProbeVolume of cascade c
 //   PROBE_DATA(g)    -> vec4 of global probe g (offset, state)
 //   PROBE_IRRADIANCE(i), PROBE_DEPTH(i) through shaders/probe_update.glsl
