@@ -35,10 +35,16 @@ endif()
 
 set(SDFSTREAM_EMBED_SPIRV_SCRIPT "${CMAKE_CURRENT_LIST_FILE}")
 
-# sdfstream_embed_shaders(TARGET <lib> SOURCES <*.comp...> HEADERS <fallback deps...>)
-# Creates static library <lib> exposing "shaders/embedded_shaders.h".
+# sdfstream_embed_shaders(TARGET <lib> SOURCES <*.comp...> HEADERS <fallback deps...>
+#                         [INCLUDE_DIRS <dirs...>])
+# Creates static library <lib> exposing "shaders/embedded_shaders.h". glslang searches
+# INCLUDE_DIRS (default: the project root, so shaders include "shaders/...") for #include.
 function(sdfstream_embed_shaders)
-  cmake_parse_arguments(ARG "" "TARGET" "SOURCES;HEADERS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TARGET" "SOURCES;HEADERS;INCLUDE_DIRS" ${ARGN})
+  if(NOT ARG_INCLUDE_DIRS)
+    set(ARG_INCLUDE_DIRS "${CMAKE_SOURCE_DIR}")
+  endif()
+  list(TRANSFORM ARG_INCLUDE_DIRS PREPEND "-I" OUTPUT_VARIABLE include_flags)
   set(gen_dir "${CMAKE_BINARY_DIR}/generated")
   set(spv_dir "${CMAKE_CURRENT_BINARY_DIR}/spirv")
   file(MAKE_DIRECTORY "${gen_dir}/shaders" "${spv_dir}")
@@ -75,7 +81,7 @@ function(sdfstream_embed_shaders)
     endif()
     add_custom_command(
       OUTPUT "${spv}"
-      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 -I${CMAKE_SOURCE_DIR} ${dep_flag}
+      COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.2 ${include_flags} ${dep_flag}
               -o "${spv}" "${src}"
       DEPENDS "${src}" ${extra_deps}
       ${dep_args}

@@ -1,7 +1,8 @@
 // CPU reference of the probe field (gi/probe_field.h): the same passes in the same order --
 // classify, select (count, emit), trace + shade, blend, borders -- running the very same math
-// (gi/probe_field_cpu.cpp includes shaders/probe_field.glsl as C++), and the storage layouts the
-// GPU uses, so tests compare them texel by texel. Also the storage sizes both share.
+// (gi/probe_field_cpu.cpp includes shaders/probe_field_storage.glsl, so shaders/probe_field.glsl
+// and its pass files, as C++), and the storage layouts the GPU uses, so tests compare them texel
+// by texel. Also the storage sizes both share.
 //
 // Not thread-safe; update() itself runs in parallel (TBB). Memory: see probeFieldBytes().
 #pragma once

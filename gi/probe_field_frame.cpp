@@ -112,6 +112,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   f.options = glm::uvec4(options, std::uint32_t(frame), s.sleepPeriod, s.maxSteps);
   f.trace = glm::vec4(s.hitEpsilon, s.relocationMinDistance, s.sleepThreshold, s.traceDistance);
   f.selection = glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots, s.vigilantFrames);
+  f.worldToStack = glm::vec4(glm::vec3(stack.cascade0MinWorld),
+                             stack.voxelSize0 > 0.0 ? float(1.0 / stack.voxelSize0) : 0.0f);
 
   gridOrigins_ = std::move(gridOrigins);
   windowWorld_ = std::move(windowWorld);

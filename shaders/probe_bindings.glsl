@@ -1,6 +1,7 @@
 // The bindings every probe field pass shares (push descriptors: one buffer list for all of
-// them, gi/probe_field.cpp), the storage macros shaders/probe_field.glsl expects, and the shared
-// math, included in dependency order. GLSL only; the C++ reference is gi/probe_field_cpu.cpp.
+// them, gi/probe_field.cpp), then shaders/probe_field_storage.glsl: the storage macros the probe
+// field math expects (shaders/probe_field.glsl and its pass files) and that math, included in
+// dependency order. GLSL only; the C++ reference is gi/probe_field_cpu.cpp.
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"

@@ -1,7 +1,9 @@
-// The storage macros of the probe field math and the includes it needs, in dependency order.
+// The storage macros of the probe field math and the includes it needs, in dependency order
+// (the field's common part, then sampling, then one file per pass: shaders/probe_field.glsl).
 // One file for both languages: the GLSL passes (probe_bindings.glsl) declare buffers with these
 // names, and the CPU reference (gi/probe_field_cpu.cpp) declares members with the same names
-// plus an atomicAdd(uint&, uint) member, then both include this inside their scope.
+// plus an atomicAdd(uint&, uint) member, then both include this inside their scope, so every pass
+// and the reference compile the same math.
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_ALBEDO(i) albedoAtlas[i]
@@ -30,3 +32,8 @@
 #define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)
 #define PROBE_DISPATCH_ARGS(i) dispatchArgs[i]
 #include "shaders/probe_field.glsl"
+#include "shaders/probe_sample.glsl"
+#include "shaders/probe_classify.glsl"
+#include "shaders/probe_select.glsl"
+#include "shaders/probe_trace.glsl"
+#include "shaders/probe_blend.glsl"

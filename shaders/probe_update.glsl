@@ -3,7 +3,7 @@
 // GLSL and gi/probe_field_cpu.cpp includes it as C++ inside a struct (the CPU reference, STYLE.md
 // habit 9), like sdf_trace.glsl and probe_math.glsl. Same rules: no swizzles, no out parameters,
 // f-suffixed float literals. The field-level logic (cascades, scheduling, tracing, sampling) is
-// shaders/probe_field.glsl.
+// shaders/probe_field.glsl and the pass files it lists.
 //
 // The includer first includes shaders/shared/{sdf_layout,probe_layout,color_codec}.h and
 // shaders/probe_math.glsl, and defines

@@ -88,6 +88,9 @@ struct ProbeFrame {
                          // z: sleep threshold (relative change), w: rays cap (trace tMax) (96..111)
   uvec4 selection;       // x: cutoff class (select emit; kProbeClassCount = all), y: list capacity,
                          // z: rotation slots of the hit cache, w: vigilant frames     (112..127)
+  vec4 worldToStack;     // xyz: cascade 0's minimum corner, world metres; w: 1 / cascade-0 voxel
+                         // size (1/m): stack = (world - xyz) * w, as CascadeStackImage::toStack;
+                         // engines' world-space queries (sdfstream/probe_sample.glsl) (128..143)
 };
 
 SDF_CONST uint kProbeOptionHitCache = 1u;
@@ -145,7 +148,9 @@ static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, countsRays) == 16);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 64);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, prevWindow) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 128);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 144);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==

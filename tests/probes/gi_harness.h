@@ -16,6 +16,15 @@
 
 namespace sdfstream::test {
 
+// One sun of `intensity` shining along `direction` (normalised here), in the stack's units.
+inline std::vector<gpu_shared::GpuLight> sunLights(const CascadeStackImage& img,
+                                                   glm::vec3 direction, float intensity) {
+  sdfstream::SceneLight sun;
+  sun.direction = glm::normalize(direction);
+  sun.intensity = intensity;
+  return sdfstream::toGpu(std::vector<sdfstream::SceneLight>{sun}, img);
+}
+
 struct GiHarness {
   bool runCpu = true, runGpu = true;
   probe::ProbeFieldSettings settings;

@@ -22,13 +22,6 @@ class ProbeFieldBehaviourTest : public test::GpuTest {};
 
 constexpr std::uint32_t kGrey = 150u | 150u << 8 | 150u << 16 | 255u << 24;
 
-std::vector<gpu_shared::GpuLight> sunLights(const CascadeStackImage& img, glm::vec3 dir, float intensity) {
-  sdfstream::SceneLight sun;
-  sun.direction = glm::normalize(dir);
-  sun.intensity = intensity;
-  return sdfstream::toGpu(std::vector<sdfstream::SceneLight>{sun}, img);
-}
-
 // A closed room (inside [40,88]x[40,80]x[40,88] cascade-0 voxels) whose walls are exactly one
 // LOD-0 voxel thick, in a 3-cascade stack; coarse cascades see the walls thickened by half their
 // voxel as the importer's min-filter LOD chain keeps them closed (world_tests: thin walls stay
@@ -50,7 +43,7 @@ TEST_F(ProbeFieldBehaviourTest, NoLightLeaksThroughOneVoxelWalls) {
   test::GiHarness h(ctx(), s, 3, false, true);
   h.sky.zenith = glm::vec4(0.4f, 0.5f, 0.8f, 0.0f);
   h.sky.horizon = glm::vec4(0.6f, 0.6f, 0.6f, 0.0f);
-  h.lights = sunLights(room.image, glm::vec3(-0.4f, -1.0f, -0.3f), 4.0f);
+  h.lights = test::sunLights(room.image, glm::vec3(-0.4f, -1.0f, -0.3f), 4.0f);
   ProbeFrameInputs in;
   in.cameraWorld = glm::dvec3(64.0, 60.0, 64.0);
   for (int frame = 0; frame < 24; ++frame) {
@@ -213,7 +206,7 @@ TEST_F(ProbeFieldBehaviourTest, ProbeStatesTraceFewerProbesAtTheSameIrradiance) 
     test::GiHarness h(ctx(), s, 3, false, true);
     h.sky.zenith = glm::vec4(0.4f, 0.5f, 0.8f, 0.0f);
     h.sky.horizon = glm::vec4(0.6f, 0.6f, 0.6f, 0.0f);
-    h.lights = sunLights(world.image, glm::vec3(-0.4f, -1.0f, -0.3f), 3.0f);
+    h.lights = test::sunLights(world.image, glm::vec3(-0.4f, -1.0f, -0.3f), 3.0f);
     ProbeFrameInputs in;
     in.cameraWorld = glm::dvec3(64.0, 50.0, 64.0);
     for (std::uint64_t frame = 0; frame < 40; ++frame) {

@@ -32,10 +32,7 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   test::GiHarness h(ctx(), s, 3);
   h.sky.zenith = glm::vec4(0.5f, 0.6f, 0.9f, 0.0f);
   h.sky.horizon = glm::vec4(0.8f, 0.8f, 0.8f, 0.0f);
-  sdfstream::SceneLight sun;
-  sun.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.4f));
-  sun.intensity = 3.0f;
-  h.lights = sdfstream::toGpu(std::vector<sdfstream::SceneLight>{sun}, img);
+  h.lights = test::sunLights(img, glm::vec3(-0.3f, -1.0f, -0.4f), 3.0f);
   ProbeFrameInputs in;
   in.cameraWorld = b.camera;
   in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - b.camera));

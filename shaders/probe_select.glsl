@@ -1,0 +1,102 @@
+// Probe field, select pass (probe_select.comp; shaders/probe_field.glsl lists the pass files):
+// which probes this frame updates, within the ray budget, and the group counts of the passes
+// that run over the resulting list. Reads and writes
+//   PROBE_VOLUME(c), PROBE_DATA(g), PROBE_HISTORY(g) (as for the classify pass)
+//   PROBE_LIST(i)            -> uint global probe at position i of this frame's update list
+//   PROBE_STAT(i)            -> uint frame statistic i (kProbeStat*), read
+//   PROBE_STAT_ADD(i, v)     -> atomic add, returns the previous value
+//   PROBE_DISPATCH_ARGS(i)   -> uint word i of the indirect dispatch arguments
+
+// ---- Scheduling (M21 Sec. 5; GS "Reducing update frequency on invisible probes") -------------
+
+// Priority class of a probe this frame, or kProbeClassNone. Vigilant first; awake probes near the
+// camera or in its view cone next; awake probes outside it every second frame; sleeping probes
+// every sleepPeriod frames (staggered by probe so the load is even); probes waiting 32 frames or
+// more jump to the front.
+uint probeUpdateClass(ProbeFrame f, uint g, uint state, vec3 position, float spacing, uint age) {
+  if (state == kProbeOff) return kProbeClassNone;
+  if (state == kProbeVigilant) return 0u;
+  uint frame = f.options.y;
+  uint cls = kProbeClassNone;
+  if (state == kProbeSleeping) {
+    uint period = max(f.options.z, 1u);
+    if ((frame + g) % period == 0u) cls = 3u;
+  } else {
+    vec3 toProbe = position - vec3(f.camera);
+    float dist = length(toProbe);
+    bool near = dist < 2.0f * spacing;
+    bool inView = dist > 0.0f && dot(toProbe / dist, vec3(f.view)) >= f.camera.w;
+    if (near || inView) cls = 1u;
+    else if (((frame + g) & 1u) == 0u) cls = 2u;
+  }
+  if (age >= 32u) cls = 0u;
+  return cls;
+}
+
+// ---- Pass body (one call per GPU invocation; the CPU reference loops over the same) ----------
+
+uint probeSelectClass(ProbeFrame f, uint g) {
+  uint c = g / f.counts.y;
+  ProbeVolume v = PROBE_VOLUME(c);
+  vec4 data = PROBE_DATA(g);
+  vec3 p = probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(data);
+  return probeUpdateClass(f, g, probeStateOf(data), p, v.originSpacing.w,
+                          probeHistoryAge(PROBE_HISTORY(g)));
+}
+
+// Which probes of the wanted ones fit this frame's list, from the counts of the count sub-pass
+// (every invocation computes the same): x = the first class that does not fit whole
+// (kProbeClassCount: all fit); y = the stride k of that class -- its probes with
+// (g + frame) % k == 0 are taken, about as many as the room left (0: no room).
+uvec2 probeSelectCutoff(ProbeFrame f) {
+  uint total = 0u;
+  for (uint cls = 0u; cls < kProbeClassCount; ++cls) {
+    uint count = PROBE_STAT(kProbeStatClassCounts + cls);
+    if (total + count > f.selection.y) {
+      uint room = f.selection.y - total;
+      uint stride = room == 0u ? 0u : (count + room - 1u) / room;
+      return uvec2(cls, stride);
+    }
+    total += count;
+  }
+  return uvec2(kProbeClassCount, 0u);
+}
+
+// Group counts (x, y, 1) of a pass over `threads` invocations of 64, spread over rows of 16384
+// groups like probeInvocation(), written at PROBE_DISPATCH_ARGS(at .. at + 2).
+void probeWriteDispatch(uint at, uint threads) {
+  uint groups = (threads + 63u) / 64u;
+  uint rows = (groups + 16383u) / 16384u;
+  PROBE_DISPATCH_ARGS(at) = rows > 1u ? 16384u : groups;
+  PROBE_DISPATCH_ARGS(at + 1u) = max(rows, 1u);
+  PROBE_DISPATCH_ARGS(at + 2u) = 1u;
+}
+
+// Dispatch sizes of the list-driven passes from this frame's list length (one invocation):
+// trace (list x rays) at 0, blend (list x 232) at 3, borders (list x 320) at 6.
+void probeWriteListDispatches(ProbeFrame f, uint raysPerProbe) {
+  uint listed = min(PROBE_STAT(kProbeStatListCount), f.selection.y);
+  probeWriteDispatch(0u, listed * raysPerProbe);
+  probeWriteDispatch(3u, listed * kProbeBlendTexelsPerProbe);
+  probeWriteDispatch(6u, listed * kProbeTileTexelsPerProbe);
+}
+
+// Select pass body (mode kProbeSelectModeCount or kProbeSelectModeEmit), one invocation per probe.
+void probeSelectPass(ProbeFrame f, uint g, uint mode) {
+  uint cls = probeSelectClass(f, g);
+  if (cls >= kProbeClassCount) return;
+  if (mode == kProbeSelectModeCount) {
+    PROBE_STAT_ADD(kProbeStatClassCounts + cls, 1u);
+    return;
+  }
+  uvec2 cutoff = probeSelectCutoff(f);
+  if (cls > cutoff.x) return;
+  if (cls == cutoff.x && (cutoff.y == 0u || (f.options.y + g) % cutoff.y != 0u)) return;
+  uint index = PROBE_STAT_ADD(kProbeStatListCount, 1u);
+  // The stride can overshoot the room by a few probes: the list stays bounded, and those few
+  // (the only thread-order-dependent choice) wait for the next frame.
+  if (index >= f.selection.y) return;
+  PROBE_LIST(index) = g;
+  uvec4 h = PROBE_HISTORY(g);
+  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0x8000ffffu);  // age 0: updated this frame
+}
