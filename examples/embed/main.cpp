@@ -28,6 +28,57 @@ std::vector<char> readFile(const char* path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
+
+// The engine's compute pass and its per-frame descriptor sets.
+struct ShadingPass {
+  VkDescriptorSetLayout setLayout;
+  VkPipelineLayout layout;
+  VkShaderModule module;
+  VkPipeline pipeline;
+  VkDescriptorPool descriptorPool;
+  VkDescriptorSet sets[kFramesInFlight];
+};
+
+ShadingPass createShadingPass(VkDevice device) {
+  ShadingPass p;
+  std::vector<VkDescriptorSetLayoutBinding> slots(9);
+  for (std::uint32_t b = 0; b < 9; ++b)
+    slots[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 9, slots.data()};
+  check(vkCreateDescriptorSetLayout(device, &li, nullptr, &p.setLayout), "set layout");
+  VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 32};
+  VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &p.setLayout, 1, &push};
+  check(vkCreatePipelineLayout(device, &pli, nullptr, &p.layout), "pipeline layout");
+  const std::vector<char> spirv = readFile(EMBED_SHADER);
+  VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, nullptr, 0, spirv.size(),
+                              reinterpret_cast<const std::uint32_t*>(spirv.data())};
+  check(vkCreateShaderModule(device, &si, nullptr, &p.module), "shader module");
+  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, p.module, "main", nullptr};
+  ci.layout = p.layout;
+  check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &p.pipeline), "pipeline");
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 9 * kFramesInFlight};
+  VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, kFramesInFlight, 1, &ps};
+  check(vkCreateDescriptorPool(device, &dpi, nullptr, &p.descriptorPool), "descriptor pool");
+  VkDescriptorSetLayout setLayouts[kFramesInFlight] = {p.setLayout, p.setLayout};
+  VkDescriptorSetAllocateInfo dsi{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr, p.descriptorPool, kFramesInFlight, setLayouts};
+  check(vkAllocateDescriptorSets(device, &dsi, p.sets), "descriptor sets");
+  return p;
+}
+
+void destroy(VkDevice device, const ShadingPass& p) {
+  vkDestroyDescriptorPool(device, p.descriptorPool, nullptr);
+  vkDestroyPipeline(device, p.pipeline, nullptr);
+  vkDestroyShaderModule(device, p.module, nullptr);
+  vkDestroyPipelineLayout(device, p.layout, nullptr);
+  vkDestroyDescriptorSetLayout(device, p.setLayout, nullptr);
+}
+
+void writePfm(const std::string& path, const float* rgba) {
+  std::ofstream out(path, std::ios::binary);
+  out << "PF\n" << kSize << " " << kSize << "\n-1.0\n";
+  for (std::uint32_t i = 0; i < kSize * kSize; ++i) out.write(reinterpret_cast<const char*>(rgba + 4 * i), 12);
+}
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -95,34 +146,7 @@ int main(int argc, char** argv) try {
     lights.sky.zenith = lights.sky.horizon = glm::vec3(0.3f, 0.4f, 0.6f);
 
     // 3. The engine's shading pass: sdfstream's buffers at bindings 0-7, its output at 8.
-    std::vector<VkDescriptorSetLayoutBinding> slots(9);
-    for (std::uint32_t b = 0; b < 9; ++b)
-      slots[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-    VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO, nullptr, 0, 9, slots.data()};
-    VkDescriptorSetLayout setLayout;
-    check(vkCreateDescriptorSetLayout(device, &li, nullptr, &setLayout), "set layout");
-    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, 32};
-    VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO, nullptr, 0, 1, &setLayout, 1, &push};
-    VkPipelineLayout layout;
-    check(vkCreatePipelineLayout(device, &pli, nullptr, &layout), "pipeline layout");
-    const std::vector<char> spirv = readFile(EMBED_SHADER);
-    VkShaderModuleCreateInfo si{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO, nullptr, 0, spirv.size(),
-                                reinterpret_cast<const std::uint32_t*>(spirv.data())};
-    VkShaderModule module;
-    check(vkCreateShaderModule(device, &si, nullptr, &module), "shader module");
-    VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main", nullptr};
-    ci.layout = layout;
-    VkPipeline pipeline;
-    check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline), "pipeline");
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 9 * kFramesInFlight};
-    VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO, nullptr, 0, kFramesInFlight, 1, &ps};
-    VkDescriptorPool descriptorPool;
-    check(vkCreateDescriptorPool(device, &dpi, nullptr, &descriptorPool), "descriptor pool");
-    VkDescriptorSetLayout setLayouts[kFramesInFlight] = {setLayout, setLayout};
-    VkDescriptorSetAllocateInfo dsi{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO, nullptr, descriptorPool, kFramesInFlight, setLayouts};
-    VkDescriptorSet sets[kFramesInFlight];
-    check(vkAllocateDescriptorSets(device, &dsi, sets), "descriptor sets");
+    const ShadingPass pass = createShadingPass(device);
     // The output: sdfstream's buffer class serves the engine too (host-visible, read at the end).
     sdfstream::gpu::Buffer pixels(*ctx, kSize * kSize * 16, sdfstream::gpu::BufferKind::Readback);
 
@@ -150,7 +174,7 @@ int main(int argc, char** argv) try {
       infos[8] = {pixels.handle(), 0, VK_WHOLE_SIZE};
       std::vector<VkWriteDescriptorSet> writes(9);
       for (std::uint32_t b = 0; b < 9; ++b)
-        writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, sets[slot], b, 0, 1,
+        writes[b] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.sets[slot], b, 0, 1,
                      VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nullptr, &infos[b], nullptr};
       vkUpdateDescriptorSets(device, 9, writes.data(), 0, nullptr);
       // The grid: 64 x 64 points 2 cm apart on the plane y = 0.15 m, in probe-field coordinates.
@@ -160,9 +184,9 @@ int main(int argc, char** argv) try {
         glm::vec4 originStep;
         glm::uvec4 size;
       } pc{glm::vec4(origin, float(0.02 / image.voxelSize0)), glm::uvec4(kSize, kSize, 0, 0)};
-      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &sets[slot], 0, nullptr);
-      vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, pc);
+      vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pass.pipeline);
+      vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout, 0, 1, &pass.sets[slot], 0, nullptr);
+      vkCmdPushConstants(cb, pass.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof pc, &pc);
       vkCmdDispatch(cb, kSize * kSize / 64, 1, 1);
       vkEndCommandBuffer(cb);
       VkTimelineSemaphoreSubmitInfo ti{VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO, nullptr, 0, nullptr, 1, &rec.signal.value};
@@ -175,17 +199,9 @@ int main(int argc, char** argv) try {
     std::printf("embed: %d frames, %llu engine submissions, %llu by sdfstream, %llu sdfstream waits in the loop\n", frames,
                 (unsigned long long)submissions, (unsigned long long)ownSubmits, (unsigned long long)waits);
     if (ownSubmits != 0 || waits != 0 || submissions != std::uint64_t(frames)) return 1;
-    const std::string pfm = std::string(argv[2]) + "/irradiance.pfm";
-    std::ofstream out(pfm, std::ios::binary);
-    out << "PF\n" << kSize << " " << kSize << "\n-1.0\n";
-    const auto* px = static_cast<const float*>(pixels.mapped());
-    for (std::uint32_t i = 0; i < kSize * kSize; ++i) out.write(reinterpret_cast<const char*>(px + 4 * i), 12);
+    writePfm(std::string(argv[2]) + "/irradiance.pfm", static_cast<const float*>(pixels.mapped()));
     validationMessages = ctx->validationMessageCount();
-    vkDestroyDescriptorPool(device, descriptorPool, nullptr);
-    vkDestroyPipeline(device, pipeline, nullptr);
-    vkDestroyShaderModule(device, module, nullptr);
-    vkDestroyPipelineLayout(device, layout, nullptr);
-    vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+    destroy(device, pass);
   }  // sdfstream goes first: the engine's device must outlive it
   for (VkFence f : fences) vkDestroyFence(device, f, nullptr);
   vkDestroyCommandPool(device, pool, nullptr);

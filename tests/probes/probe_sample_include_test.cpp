@@ -14,7 +14,7 @@
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
-#include "tests/gpu/gpu_test_fixture.h"
+#include "tests/support/gpu_test.h"
 #include "tests/probes/gi_harness.h"
 #include "tests/probes/probe_field_checks.h"
 #include "tests/support/analytic_stack.h"
