@@ -44,6 +44,7 @@ class EngineFrames {
     alloc.commandBufferCount = count;
     vkAllocateCommandBuffers(ctx.device(), &alloc, cbs_.data());
     fences_.resize(count);
+    signals_.resize(count);
     VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
     for (VkFence& f : fences_) vkCreateFence(ctx.device(), &fence, nullptr, &f);
@@ -56,6 +57,14 @@ class EngineFrames {
   VkCommandBuffer begin(std::uint64_t frame) {
     slot_ = std::uint32_t(frame % cbs_.size());
     vkWaitForFences(ctx_.device(), 1, &fences_[slot_], VK_TRUE, UINT64_MAX);
+    // Also sdfstream's timeline value of that frame: a fence may precede it by a moment.
+    if (signals_[slot_].semaphore) {
+      VkSemaphoreWaitInfo wi{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
+      wi.semaphoreCount = 1;
+      wi.pSemaphores = &signals_[slot_].semaphore;
+      wi.pValues = &signals_[slot_].value;
+      vkWaitSemaphores(ctx_.device(), &wi, UINT64_MAX);
+    }
     vkResetFences(ctx_.device(), 1, &fences_[slot_]);
     vkResetCommandBuffer(cbs_[slot_], 0);
     VkCommandBufferBeginInfo info{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -77,6 +86,7 @@ class EngineFrames {
     info.pSignalSemaphores = &signal.semaphore;
     if (vkQueueSubmit(ctx_.queue(), 1, &info, fences_[slot_]) != VK_SUCCESS)
       throw std::runtime_error("vkQueueSubmit failed");
+    signals_[slot_] = signal;
   }
 
  private:
@@ -84,6 +94,7 @@ class EngineFrames {
   VkCommandPool pool_ = VK_NULL_HANDLE;
   std::vector<VkCommandBuffer> cbs_;
   std::vector<VkFence> fences_;
+  std::vector<gpu::SubmitSignal> signals_;
   std::uint32_t slot_ = 0;
 };
 

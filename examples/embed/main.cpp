@@ -152,13 +152,21 @@ int main(int argc, char** argv) try {
 
     // 4. The frame loop: record GI + shading into one command buffer, submit once.
     const std::uint64_t ownSubmitsBefore = ctx->submitCount(), waitsBefore = ctx->hostWaitCount();
+    sdfstream::gpu::SubmitSignal slotSignal[kFramesInFlight] = {};
     for (int f = 0; f < frames; ++f) {
       const glm::dvec3 camera(0.3 + 0.004 * f, 0.4, 1.4 - 0.003 * f);
       stack.update(camera);
       if (settle) loader.waitIdle();
       const std::vector<std::uint32_t> dirty = stack.takeDirtySlots();
       const std::uint32_t slot = std::uint32_t(f) % kFramesInFlight;
-      vkWaitForFences(device, 1, &fences[slot], VK_TRUE, UINT64_MAX);  // the engine's own wait
+      // The engine's own waits for the frame that last used this slot: its fence (the command
+      // buffer is free), and sdfstream's timeline value of that frame, which the fence may
+      // precede by a moment on some drivers (sdfstream then sees the slot's staging free too).
+      vkWaitForFences(device, 1, &fences[slot], VK_TRUE, UINT64_MAX);
+      if (slotSignal[slot].semaphore) {
+        VkSemaphoreWaitInfo wi{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO, nullptr, 0, 1, &slotSignal[slot].semaphore, &slotSignal[slot].value};
+        vkWaitSemaphores(device, &wi, UINT64_MAX);
+      }
       vkResetFences(device, 1, &fences[slot]);
       VkCommandBuffer cb = cbs[slot];
       vkResetCommandBuffer(cb, 0);
@@ -192,6 +200,7 @@ int main(int argc, char** argv) try {
       VkTimelineSemaphoreSubmitInfo ti{VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO, nullptr, 0, nullptr, 1, &rec.signal.value};
       VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO, &ti, 0, nullptr, nullptr, 1, &cb, 1, &rec.signal.semaphore};
       check(vkQueueSubmit(queue, 1, &submit, fences[slot]), "vkQueueSubmit");
+      slotSignal[slot] = rec.signal;
       ++submissions;
     }
     const std::uint64_t ownSubmits = ctx->submitCount() - ownSubmitsBefore, waits = ctx->hostWaitCount() - waitsBefore;

@@ -74,6 +74,15 @@ class EngineDevice {
   VkCommandBuffer beginFrame(std::uint64_t frame) {
     slot = std::uint32_t(frame % commandBuffers.size());
     vkWaitForFences(device, 1, &fences[slot], VK_TRUE, UINT64_MAX);
+    // Also sdfstream's timeline value of that frame: a fence may precede it by a moment.
+    if (slotSignals[slot].semaphore) {
+      VkSemaphoreWaitInfo wi{};
+      wi.sType = VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO;
+      wi.semaphoreCount = 1;
+      wi.pSemaphores = &slotSignals[slot].semaphore;
+      wi.pValues = &slotSignals[slot].value;
+      vkWaitSemaphores(device, &wi, UINT64_MAX);
+    }
     vkResetFences(device, 1, &fences[slot]);
     vkResetCommandBuffer(commandBuffers[slot], 0);
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -96,6 +105,7 @@ class EngineDevice {
     submit.signalSemaphoreCount = 1;
     submit.pSignalSemaphores = &signal.semaphore;
     check(vkQueueSubmit(queue, 1, &submit, fences[slot]), "vkQueueSubmit");
+    slotSignals[slot] = signal;
     ++submissions;
   }
 
@@ -109,6 +119,7 @@ class EngineDevice {
   VkCommandPool pool = VK_NULL_HANDLE;
   std::vector<VkCommandBuffer> commandBuffers;
   std::vector<VkFence> fences;
+  std::vector<gpu::SubmitSignal> slotSignals;  // the last frame submitted from each slot
   std::uint32_t slot = 0;
   std::uint64_t submissions = 0;  // the engine's own vkQueueSubmit calls
 
@@ -145,6 +156,7 @@ class EngineDevice {
     poolInfo.queueFamilyIndex = queueFamily;
     check(vkCreateCommandPool(device, &poolInfo, nullptr, &pool), "vkCreateCommandPool");
     commandBuffers.resize(framesInFlight);
+    slotSignals.resize(framesInFlight);
     VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     alloc.commandPool = pool;
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
