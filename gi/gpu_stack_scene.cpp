@@ -1,5 +1,6 @@
 #include "gi/gpu_stack_scene.h"
 
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -32,9 +33,20 @@ std::size_t recordSlots(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   regions.reserve(slots.size());
   for (std::size_t i = 0; i < slots.size(); ++i) {
     std::memcpy(r.data + i * bytes, &atlas[std::size_t(slots[i]) * words], bytes);
-    regions.push_back({r.offset + i * bytes, std::size_t(slots[i]) * bytes, bytes});
+    const VkBufferCopy c{r.offset + i * bytes, std::size_t(slots[i]) * bytes, bytes};
+    // Runs of neighbouring slots are one region: a whole-atlas upload becomes a single copy
+    // (the validation layer checks regions pairwise for overlap).
+    if (!regions.empty() && regions.back().srcOffset + regions.back().size == c.srcOffset &&
+        regions.back().dstOffset + regions.back().size == c.dstOffset)
+      regions.back().size += bytes;
+    else
+      regions.push_back(c);
   }
-  batch.copyRegions(*r.buffer, dst, regions);
+  // At most kRegionsPerCopy regions per command, for the same reason.
+  constexpr std::size_t kRegionsPerCopy = 256;
+  for (std::size_t i = 0; i < regions.size(); i += kRegionsPerCopy)
+    batch.copyRegions(*r.buffer, dst,
+                      std::span(regions).subspan(i, std::min(kRegionsPerCopy, regions.size() - i)));
   return slots.size() * bytes;
 }
 
