@@ -85,7 +85,7 @@ class LightCacheCpu {
   std::uint32_t pagesRelit_ = 0;
 };
 
-// The GPU light cache (light_cache.comp). Owns the light atlas and small upload buffers for the
+// The GPU light cache (light_cache.comp). Owns the light atlas and small device-local buffers (written through the staging ring) for the
 // page list and the lights. Thread safety: as for the Context.
 class LightCache {
  public:
