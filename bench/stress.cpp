@@ -105,10 +105,11 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
     for (int f = 0; f < b.warmup + b.frames; ++f) {
       const auto t0 = Clock::now();
       if (stress::hasObjects(mode)) motion.apply(instances, f / 60.0);
+      const double motionMs = millisecondsSince(t0);
       const std::span<const std::uint32_t> dirty =
           f == 0 ? std::span<const std::uint32_t>(b.allSlots) : std::span<const std::uint32_t>();
       const GiFrameStats s = gi.update(b.stack, dirty, lights, b.inputs, std::uint64_t(f));
-      const double hostMs = millisecondsSince(t0);
+      const double wallMs = millisecondsSince(t0);
       if (f < b.warmup) continue;
 
       StressFrame m;
@@ -131,7 +132,14 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       m.objectRays = s.probes.objectRays;
       m.objectHits = s.probes.objectHits;
       m.objectSteps = s.probes.objectSteps;
-      m.hostMs = hostMs;
+      m.motionMs = motionMs;
+      m.sceneMs = s.host.sceneMs;
+      m.objectsMs = s.host.objectsMs;
+      m.shadowPagesMs = s.host.shadowPagesMs;
+      m.lightHostMs = s.host.lightMs;
+      m.probesHostMs = s.host.probesMs;
+      m.recordMs = s.host.totalMs;
+      m.wallMs = wallMs;
       run.frames.push_back(m);
 
       const int measured = f - b.warmup + 1;

@@ -100,15 +100,20 @@ void writeFramesCsv(const fs::path& file, const std::vector<StressRun>& runs) {
   std::string csv =
       "objects,mode,frame,region_count_ms,region_scan_ms,region_fill_ms,probe_ms,probe_trace_ms,"
       "light_ms,pages_relit,object_pages_relit,probes_updated,rays_traced,rays_cached,"
-      "object_rays,object_hits,object_steps,host_ms\n";
-  char row[512];
+      "object_rays,object_hits,object_steps,host_ms,motion_ms,scene_ms,objects_ms,"
+      "shadow_pages_ms,light_host_ms,probes_host_ms,wall_ms\n";
+  char row[640];
   for (const StressRun& r : runs)
     for (const StressFrame& f : r.frames) {
       std::snprintf(
-          row, sizeof row, "%u,%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%u,%u,%u,%u,%u,%u,%u,%u,%.3f\n",
+          row, sizeof row,
+          "%u,%s,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%u,%u,%u,%u,%u,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,"
+          "%.3f,%.3f,%.3f,%.3f\n",
           r.objects, modeName(r.mode), f.frame, f.regionCountMs, f.regionScanMs, f.regionFillMs,
           f.probeMs, f.traceMs, f.lightMs, f.pagesRelit, f.objectPagesRelit, f.probesUpdated,
-          f.raysTraced, f.raysCached, f.objectRays, f.objectHits, f.objectSteps, f.hostMs);
+          f.raysTraced, f.raysCached, f.objectRays, f.objectHits, f.objectSteps, f.hostMs(),
+          f.motionMs, f.sceneMs, f.objectsMs, f.shadowPagesMs, f.lightHostMs, f.probesHostMs,
+          f.wallMs);
       csv += row;
     }
   writeText(file, csv);
@@ -259,6 +264,53 @@ std::string scalingSection(const std::vector<StressRun>& runs) {
   return md;
 }
 
+// Host time per frame by part (regions mode, and the static-only baseline), and how it and the
+// GPU cost grow with the object count.
+std::string hostSection(const std::vector<StressRun>& runs) {
+  std::string md =
+      "\n## Host time\n\nCPU milliseconds per frame (medians): the scripted motion, then "
+      "GiSystem's recording of the frame by part -- scene (page tables, streamed bricks), objects "
+      "(instances into stack space, region state, uploads), shadow pages (light-cache pages the "
+      "moves shadow), light (dirty pages, the light cache pass), probes (the probe passes). "
+      "*host* = motion + recording; *wall* adds the blocking update's submit and its wait for the "
+      "GPU.\n\n"
+      "| objects | mode | host ms | motion | scene | objects | shadow pages | light | probes | "
+      "wall ms | host us / instance |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  struct Point {
+    double n, host, cost;
+  };
+  std::vector<Point> points;
+  for (const StressRun& r : runs) {
+    if (!r.skipped.empty() || r.frames.empty() || r.mode == Mode::Naive) continue;
+    const RunSummary s = summarize(r);
+    md += "| " + (hasObjects(r.mode) ? withCommas(r.objects) : std::string("-")) + " | " +
+          modeName(r.mode) + " | " + format("%.3f", s.hostMs) + " | " + format("%.3f", s.motionMs) +
+          " | " + format("%.3f", s.sceneMs) + " | " + format("%.3f", s.objectsMs) + " | " +
+          format("%.3f", s.shadowPagesMs) + " | " + format("%.3f", s.lightHostMs) + " | " +
+          format("%.3f", s.probesHostMs) + " | " + format("%.3f", s.wallMs) + " | " +
+          (r.objects ? format("%.3f", 1000.0 * s.hostMs / r.objects) : std::string("-")) + " |\n";
+    if (r.mode == Mode::Regions && r.objects > 0)
+      points.push_back({double(r.objects), s.hostMs, s.costMs + s.lightMs});
+  }
+  if (points.size() >= 2) {
+    md +=
+        "\nScaling exponents e of time ~ objects^e between successive counts (1 = linear), "
+        "host time and GPU time (regions + probe update + light cache):\n\n"
+        "| from | to | host e | GPU e |\n|---|---|---|---|\n";
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      const Point& a = points[i - 1];
+      const Point& b = points[i];
+      const double k = std::log(b.n / a.n);
+      auto e = [&](double x, double y) {
+        return x > 0 && y > 0 ? format("%.2f", std::log(y / x) / k) : std::string("n/a");
+      };
+      md += "| " + withCommas(std::uint64_t(a.n)) + " | " + withCommas(std::uint64_t(b.n)) + " | " +
+            e(a.host, b.host) + " | " + e(a.cost, b.cost) + " |\n";
+    }
+  }
+  return md;
+}
+
 }  // namespace
 
 const char* modeName(Mode mode) {
@@ -290,7 +342,14 @@ RunSummary summarize(const StressRun& run) {
   s.traceMs = medianOf(run, [](const StressFrame& f) { return f.traceMs; });
   s.lightMs = medianOf(run, [](const StressFrame& f) { return f.lightMs; });
   s.costMs = medianOf(run, [](const StressFrame& f) { return f.costMs(); });
-  s.hostMs = medianOf(run, [](const StressFrame& f) { return f.hostMs; });
+  s.hostMs = medianOf(run, [](const StressFrame& f) { return f.hostMs(); });
+  s.motionMs = medianOf(run, [](const StressFrame& f) { return f.motionMs; });
+  s.sceneMs = medianOf(run, [](const StressFrame& f) { return f.sceneMs; });
+  s.objectsMs = medianOf(run, [](const StressFrame& f) { return f.objectsMs; });
+  s.shadowPagesMs = medianOf(run, [](const StressFrame& f) { return f.shadowPagesMs; });
+  s.lightHostMs = medianOf(run, [](const StressFrame& f) { return f.lightHostMs; });
+  s.probesHostMs = medianOf(run, [](const StressFrame& f) { return f.probesHostMs; });
+  s.wallMs = medianOf(run, [](const StressFrame& f) { return f.wallMs; });
   s.pagesRelit = medianOf(run, [](const StressFrame& f) { return f.pagesRelit; });
   s.objectPagesRelit = medianOf(run, [](const StressFrame& f) { return f.objectPagesRelit; });
   s.probesUpdated = medianOf(run, [](const StressFrame& f) { return f.probesUpdated; });
@@ -511,10 +570,12 @@ void writeStressReport(const fs::path& dir, const StressSetup& setup,
       "pass, the frame's cost of the objects and the probe update together; *x static* divides "
       "it by the static-only probe update. *trace - static* = this run's probe_trace pass minus "
       "static-only's: the traversal cost of the objects. *pages relit (by objects)*: light-cache "
-      "pages relit, and of those the ones objects' moves shadowed or unshadowed. *host ms*: wall "
-      "time of the motion and GiSystem::update (instance upload, region list sizing, waits).\n\n";
+      "pages relit, and of those the ones objects' moves shadowed or unshadowed. *host ms*: CPU "
+      "time of the scripted motion and of recording the GI frame (no waits; by part under Host "
+      "time).\n\n";
   md += stressTable(runs);
   md += scalingSection(runs);
+  md += hostSection(runs);
   md +=
       "\nNaive mode tests every probe ray against every instance over the ray's whole "
       "length: also beyond the cascades that have region lists, where the regions walk sees no "

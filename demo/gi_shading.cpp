@@ -327,7 +327,7 @@ GiFrameStats GiRenderer::updateDirectOnly(const CascadeStackImage& image,
     for (const auto& t : objects_->lastTimings()) stats.objectMilliseconds += t.milliseconds;
     stats.objectInstances = std::uint32_t(instances_->size());
     if (light_) {
-      shadowed = objectShadowPages(image, instances_->changedBoxes(*objectLibrary_), gpuLights);
+      shadowed = objectShadowPages(image, objects_->frame().changedBoxes, gpuLights);
       stats.objectPagesRelit = std::uint32_t(shadowed.size());
     }
     instances_->endFrame();

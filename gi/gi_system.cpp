@@ -1,9 +1,12 @@
 #include "gi/gi_system.h"
 
 #include <algorithm>
+#include <chrono>
 #include <iterator>
 #include <string_view>
 #include <utility>
+
+#include "core/stopwatch.h"
 
 namespace sdfstream {
 namespace {
@@ -47,15 +50,17 @@ GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::ui
                               const SceneLights& lights, probe::ProbeFrameInputs inputs,
                               std::uint64_t frame) {
   return runBlocking(
-      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordSync(b, s, stack, dirtySlots); },
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
+        return scene_.recordSync(b, s, stack, dirtySlots);
+      },
       stack.stackImage(), lights, inputs, frame);
 }
 
 GiFrameStats GiSystem::update(const CascadeStackImage& image, const SceneLights& lights,
                               probe::ProbeFrameInputs inputs, std::uint64_t frame) {
-  return runBlocking(
-      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordUploadAll(b, s, image); },
-      image, lights, inputs, frame);
+  return runBlocking([&](gpu::CommandBatch& b,
+                         gpu::StagingRing& s) { return scene_.recordUploadAll(b, s, image); },
+                     image, lights, inputs, frame);
 }
 
 GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeStack& stack,
@@ -64,7 +69,9 @@ GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeSt
                                   std::uint64_t frame) {
   return runRecorded(
       commandBuffer,
-      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordSync(b, s, stack, dirtySlots); },
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
+        return scene_.recordSync(b, s, stack, dirtySlots);
+      },
       stack.stackImage(), lights, inputs, frame);
 }
 
@@ -73,7 +80,9 @@ GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeSt
                                   std::uint64_t frame) {
   return runRecorded(
       commandBuffer,
-      [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return scene_.recordUploadAll(b, s, image); },
+      [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
+        return scene_.recordUploadAll(b, s, image);
+      },
       image, lights, inputs, frame);
 }
 
@@ -105,38 +114,53 @@ GiFrameRecording GiSystem::runRecorded(VkCommandBuffer commandBuffer, const Scen
 GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& upload,
                                    const CascadeStackImage& image, const SceneLights& lights,
                                    probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
   GiFrameStats stats;
   stats.frame = frame;
   upload(batch, staging_);
+  stats.host.sceneMs = millisecondsSince(start);
+  Clock::time_point t = Clock::now();
   // Lights are world-fixed: the light cache (radiance per voxel) only changes when they do,
   // not when cascade 0 moves and their cascade-relative GPU form with it.
-  const bool lightsChanged = lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
+  const bool lightsChanged =
+      lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();
   std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
   const auto gpuLights = toGpu(lights.lights, image);
   const gpu_shared::GpuSky sky = toGpu(lights.sky);
+  stats.host.lightMs = millisecondsSince(t);
   if (instances_) {
+    t = Clock::now();
     objects_.record(batch, staging_, *objectLibrary_, *instances_, image);
     stats.objectInstances = std::uint32_t(instances_->size());
+    stats.host.objectsMs = millisecondsSince(t);
+    t = Clock::now();
     // Relight only where objects moved: the pages their old and new poses shadow.
-    const std::vector<WorldBox> changed = instances_->changedBoxes(*objectLibrary_);
-    const std::vector<std::uint32_t> shadowed = objectShadowPages(image, changed, gpuLights);
+    const std::vector<std::uint32_t> shadowed =
+        objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);
     stats.objectPagesRelit = std::uint32_t(shadowed.size());
     std::vector<std::uint32_t> merged;
     std::set_union(dirty.begin(), dirty.end(), shadowed.begin(), shadowed.end(),
                    std::back_inserter(merged));
     dirty = std::move(merged);
     instances_->endFrame();
+    stats.host.shadowPagesMs = millisecondsSince(t);
   }
+  t = Clock::now();
   light_.record(batch, staging_, scene_, gpuLights, sky, dirty, image.voxelSize0,
                 instances_ ? &objects_ : nullptr);
+  stats.host.lightMs += millisecondsSince(t);
+  t = Clock::now();
   inputs.sky = sky;
   inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
   probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
   stats.pagesRelit = light_.pagesRelitLastUpdate();
   stats.bytesUploaded = staging_.bytesThisFrame();
   previous_ = std::make_unique<CascadeStackImage>(image);
+  stats.host.probesMs = millisecondsSince(t);
+  stats.host.totalMs = millisecondsSince(start);
   return stats;
 }
 
@@ -172,11 +196,12 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
 
 std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {
   const auto probe = probes_.sampleBuffers();
-  const gpu::Buffer* buffers[kSampleBindingCount] = {probe[0], probe[1], probe[2], probe[3], probe[4],
-                                                     &scene_.pageTables(), &scene_.distance(),
-                                                     &scene_.params()};
+  const gpu::Buffer* buffers[kSampleBindingCount] = {
+      probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
+      &scene_.distance(), &scene_.params()};
   std::array<VkDescriptorBufferInfo, kSampleBindingCount> out{};
-  for (std::size_t i = 0; i < kSampleBindingCount; ++i) out[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+  for (std::size_t i = 0; i < kSampleBindingCount; ++i)
+    out[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
   return out;
 }
 

@@ -39,15 +39,28 @@ struct GiSettings {
   std::uint32_t framesInFlight = 2;
 };
 
+// CPU time (milliseconds) of a frame's host work inside record()/update(), by part: building
+// and writing into the staging ring what the GPU reads, and recording the passes. Waits for the
+// GPU are not included (update's submit and wait come after).
+struct GiHostTimes {
+  double sceneMs = 0.0;        // page tables and streamed bricks
+  double objectsMs = 0.0;      // instances into stack space, region state, their uploads
+  double shadowPagesMs = 0.0;  // the light-cache pages the objects' moves shadow
+  double lightMs = 0.0;        // dirty pages, lights, the light cache pass
+  double probesMs = 0.0;       // the probe passes
+  double totalMs = 0.0;        // all of the frame's recording
+};
+
 struct GiFrameStats {
-  std::uint64_t frame = 0;         // as passed to update()/record()
+  std::uint64_t frame = 0;  // as passed to update()/record()
   std::uint32_t pagesRelit = 0;
-  double lightMilliseconds = 0.0;  // GPU time of the light cache pass (0 when skipped)
-  double probeMilliseconds = 0.0;  // GPU time of all probe passes
-  double objectMilliseconds = 0.0; // GPU time of the macro-region passes (0 without objects)
+  double lightMilliseconds = 0.0;   // GPU time of the light cache pass (0 when skipped)
+  double probeMilliseconds = 0.0;   // GPU time of all probe passes
+  double objectMilliseconds = 0.0;  // GPU time of the macro-region passes (0 without objects)
   std::uint32_t objectInstances = 0;
   std::uint32_t objectPagesRelit = 0;  // light-cache pages relit because objects moved
   std::size_t bytesUploaded = 0;       // staging bytes of the frame (bricks, tables, instances)
+  GiHostTimes host;
   probe::ProbeFieldStats probes;
   std::vector<gpu::PassTiming> passes;  // every timed pass of the frame, in recording order
 };

@@ -1,7 +1,12 @@
 #include "gi/object_frame.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 namespace sdfstream {
 namespace gs = gpu_shared;
@@ -77,12 +82,12 @@ bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, g
 }
 }  // namespace
 
-ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
-                                 const CascadeStackImage& stack,
-                                 const ObjectSceneSettings& settings) {
-  ObjectFrameData out;
+void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
+                      const CascadeStackImage& stack, const ObjectSceneSettings& settings,
+                      ObjectFrameData& out) {
   const std::uint32_t cascades = std::min<std::uint32_t>(
       {settings.regionCascades, gs::kMaxRegionCascades, std::uint32_t(stack.params.size())});
+  out.frame = gs::ObjectFrameGpu{};
   gs::ObjectFrameGpu& f = out.frame;
   f.counts =
       glm::uvec4(std::uint32_t(instances.size()), cascades, 0u, std::uint32_t(library.size()));
@@ -91,46 +96,88 @@ ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet
     f.regionOrigin[c] = glm::vec4(os.x, os.y, os.z, float(gs::kRegionCells) * os.w);
   }
   f.params = glm::vec4(settings.sizeRule, settings.hitEpsilon, float(settings.maxSteps), 0.0f);
-
-  f.boundsMin = glm::vec4(glm::vec3(1e30f), 0.0f);  // empty until an instance widens it
-  f.boundsMax = glm::vec4(glm::vec3(-1e30f), 0.0f);
   out.regions.assign(std::size_t(cascades) * gs::kRegionsPerCascade, gs::ObjectRegionGpu{});
-  out.instances.reserve(instances.size());
-  std::uint64_t capacity = 0;
-  for (const Instance& inst : instances.instances()) {
-    gs::ObjectInstanceGpu g =
-        instanceInStack(library.mesh(inst.mesh), inst.mesh, inst.pose.matrix(), stack);
-    g.info.y = inst.movedThisFrame ? gs::kObjectFlagMoved : 0u;
-    g.info.z = inst.id;
-    out.movedInstances += inst.movedThisFrame ? 1u : 0u;
-    for (std::uint32_t c = 0; c < cascades; ++c) {
-      if (c > 0 && g.boundsMax.w < settings.sizeRule * f.regionOrigin[c].w / 16.0f) continue;
-      glm::ivec3 lo, hi;
-      if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi)) continue;
-      const glm::ivec3 ext = hi - lo + 1;
-      capacity += std::uint64_t(ext.x) * ext.y * ext.z;
-      out.cascadeMask |= 1u << c;
-    }
-    out.instances.push_back(g);
-    f.boundsMin = glm::min(f.boundsMin, glm::vec4(glm::vec3(g.boundsMin), 0.0f));
-    f.boundsMax = glm::max(f.boundsMax, glm::vec4(glm::vec3(g.boundsMax), 0.0f));
-  }
+
+  // The instances in stack space, in parallel (a 4×4 inverse each), with what the frame sums
+  // over them: the list capacity, the cascades listing anything, the box around them all.
+  const std::span<const Instance> all = instances.instances();
+  for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
+  out.instances.resize(all.size());
+  struct Totals {
+    std::uint64_t capacity = 0;
+    std::uint32_t cascadeMask = 0, moved = 0;
+    glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
+  };
+  const Totals totals = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, all.size(), 256), Totals{},
+      [&](const tbb::blocked_range<std::size_t>& range, Totals t) {
+        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+          const Instance& inst = all[k];
+          gs::ObjectInstanceGpu g =
+              instanceInStack(library.mesh(inst.mesh), inst.mesh, inst.pose.matrix(), stack);
+          g.info.y = inst.movedThisFrame ? gs::kObjectFlagMoved : 0u;
+          g.info.z = inst.id;
+          t.moved += inst.movedThisFrame ? 1u : 0u;
+          for (std::uint32_t c = 0; c < cascades; ++c) {
+            if (c > 0 && g.boundsMax.w < settings.sizeRule * f.regionOrigin[c].w / 16.0f) continue;
+            glm::ivec3 lo, hi;
+            if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
+              continue;
+            const glm::ivec3 ext = hi - lo + 1;
+            t.capacity += std::uint64_t(ext.x) * ext.y * ext.z;
+            t.cascadeMask |= 1u << c;
+          }
+          out.instances[k] = g;
+          t.lo = glm::min(t.lo, glm::vec3(g.boundsMin));
+          t.hi = glm::max(t.hi, glm::vec3(g.boundsMax));
+        }
+        return t;
+      },
+      [](Totals a, const Totals& b) {
+        a.capacity += b.capacity;
+        a.cascadeMask |= b.cascadeMask;
+        a.moved += b.moved;
+        a.lo = glm::min(a.lo, b.lo);
+        a.hi = glm::max(a.hi, b.hi);
+        return a;
+      });
+  out.cascadeMask = totals.cascadeMask;
+  out.movedInstances = totals.moved;
+  f.boundsMin = glm::vec4(totals.lo, 0.0f);
+  f.boundsMax = glm::vec4(totals.hi, 0.0f);
+
   // Regions where something moved (old and new poses, removals included): the probes there wake.
-  for (const WorldBox& box : instances.changedBoxes(library)) {
-    const glm::vec3 bmin = stack.toStack(box.min), bmax = stack.toStack(box.max);
-    for (std::uint32_t c = 0; c < cascades; ++c) {
-      glm::ivec3 lo, hi;
-      if (!regionRange(f, c, bmin, bmax, lo, hi)) continue;
-      for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x)
-            out.regions[c * gs::kRegionsPerCascade + x + 8 * (y + 8 * z)].moved = 1u;
-    }
-  }
+  out.changedBoxes = instances.changedBounds(library);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, out.changedBoxes.size(), 256),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t k = range.begin(); k != range.end(); ++k) {
+          const WorldBox& box = out.changedBoxes[k];
+          const glm::vec3 bmin = stack.toStack(box.min), bmax = stack.toStack(box.max);
+          for (std::uint32_t c = 0; c < cascades; ++c) {
+            glm::ivec3 lo, hi;
+            if (!regionRange(f, c, bmin, bmax, lo, hi)) continue;
+            for (int z = lo.z; z <= hi.z; ++z)
+              for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x)
+                  std::atomic_ref<std::uint32_t>(
+                      out.regions[c * gs::kRegionsPerCascade + x + 8 * (y + 8 * z)].moved)
+                      .store(1u, std::memory_order_relaxed);
+          }
+        }
+      });
+  out.movedRegions = 0;
   for (const gs::ObjectRegionGpu& r : out.regions) out.movedRegions += r.moved != 0 ? 1u : 0u;
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
-  out.listCapacity = std::uint32_t(capacity + capacity / 8 + 64);
+  out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   f.counts.z = out.listCapacity;
+}
+
+ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
+                                 const CascadeStackImage& stack,
+                                 const ObjectSceneSettings& settings) {
+  ObjectFrameData out;
+  buildObjectFrame(library, instances, stack, settings, out);
   return out;
 }
 

@@ -45,6 +45,9 @@ struct ObjectFrameData {
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
   std::uint32_t movedInstances = 0;
   std::uint32_t movedRegions = 0;  // regions flagged moved (removals included)
+  // InstanceSet::changedBounds of the frame (world space; each changed instance's start and end
+  // boxes as one): the light cache relights the pages they shadow.
+  std::vector<WorldBox> changedBoxes;
 };
 
 // The instance as the GPU sees it: grid <-> stack maps, stack AABB, step scale, radius.
@@ -52,6 +55,11 @@ gpu_shared::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32
                                               const glm::dmat4& worldFromObject,
                                               const CascadeStackImage& stack);
 
+// Host work is parallel over instances and changed boxes (TBB). The out-parameter form reuses
+// `out`'s buffers from frame to frame.
+void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
+                      const CascadeStackImage& stack, const ObjectSceneSettings& settings,
+                      ObjectFrameData& out);
 ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
                                  const CascadeStackImage& stack,
                                  const ObjectSceneSettings& settings);

@@ -72,7 +72,7 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                          const ObjectLibrary& library, const InstanceSet& instances,
                          const CascadeStackImage& stack) {
   if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
-  frame_ = buildObjectFrame(library, instances, stack, settings_);
+  buildObjectFrame(library, instances, stack, settings_, frame_);
   timings_.clear();
 
   const std::size_t metaBytes =

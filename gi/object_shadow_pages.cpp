@@ -1,6 +1,15 @@
 // objectShadowPages (gi/light_cache.h): the pages whose direct light a moving object may have
-// changed, so the light cache relights only where objects moved (issue 7 item 6).
+// changed, so the light cache relights only where objects moved.
+//
+// Cost. Thousands of objects move at once, so the work must not be boxes × pages swept. Under the
+// sun every box's shadow is found at once through a page-resolution shadow map per cascade (the
+// changed boxes' nearest depth per light-space cell), which each of the cascade's 4,096 pages then
+// looks up: O(boxes + pages) per cascade and sun. Point and spot lights, whose shadows diverge,
+// sweep each box away from the light in segments. Cascades are independent and run in parallel.
 #include <algorithm>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
 
 #include "gi/light_cache.h"
 #include "shaders/shared/sdf_layout.h"
@@ -9,21 +18,183 @@ namespace sdfstream {
 namespace gs = gpu_shared;
 
 namespace {
+constexpr int kPagesPerAxis = 16;  // a cascade is 16³ pages of 8³ voxels
+// Shadow-map cells per page edge: finer cells follow a shadow's outline more closely (fewer
+// pages relit for nothing) at 4x the cells per doubling.
+constexpr float kShadowCellsPerPage = 4.0f;
+
 struct Box {
   glm::vec3 lo, hi;
 };
 
-// The part of the box's shadow between distances s0 and s1 from it: every corner moved s0 and s1
-// stack voxels away from the light, as one box. Marking the shadow piece by piece follows a
-// slanted shadow closely, where one box around the whole sweep would cover a quarter of a cascade.
-Box shadowSegment(const Box& b, const gs::GpuLight& light, float s0, float s1) {
+glm::vec3 corner(const Box& b, int k) {
+  return glm::vec3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+}
+
+bool contains(const Box& b, glm::vec3 p) {
+  return glm::all(glm::greaterThanEqual(p, b.lo)) && glm::all(glm::lessThanEqual(p, b.hi));
+}
+
+bool isSun(const gs::GpuLight& light) {
+  return std::uint32_t(light.positionType.w + 0.5f) == gs::kLightSun;
+}
+
+// One cascade's page grid in stack space, and its marks (indexed by toroidal page entry).
+struct CascadePages {
+  glm::vec3 origin;  // stack position of page (0, 0, 0) of the window
+  float edge;        // page edge in stack voxels
+  glm::uvec3 toroidal;
+  std::uint8_t* marked;            // kCascadePageCount entries
+  const std::uint32_t* pageTable;  // the cascade's kCascadePageCount entries
+
+  Box pageBox(glm::ivec3 p) const {
+    const glm::vec3 lo = origin + glm::vec3(p) * edge;
+    return {lo, lo + glm::vec3(edge)};
+  }
+  std::uint32_t entry(glm::ivec3 p) const {
+    return ((std::uint32_t(p.x) + toroidal.x) & 15u) +
+           16u * (((std::uint32_t(p.y) + toroidal.y) & 15u) +
+                  16u * ((std::uint32_t(p.z) + toroidal.z) & 15u));
+  }
+  void markPage(glm::ivec3 p) const { marked[entry(p)] = 1; }
+  bool resident(glm::ivec3 p) const { return (pageTable[entry(p)] & gs::kPageResidentBit) != 0; }
+  // Every page the box overlaps (faces included).
+  void markBox(const Box& b) const {
+    const glm::vec3 lo = (b.lo - origin) / edge, hi = (b.hi - origin) / edge;
+    if (hi.x < 0 || hi.y < 0 || hi.z < 0 || lo.x > kPagesPerAxis || lo.y > kPagesPerAxis ||
+        lo.z > kPagesPerAxis)
+      return;
+    const glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(15));
+    const glm::ivec3 z = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(15));
+    for (int pz = a.z; pz <= z.z; ++pz)
+      for (int py = a.y; py <= z.y; ++py)
+        for (int px = a.x; px <= z.x; ++px) markPage({px, py, pz});
+  }
+};
+
+// Marks the pages the boxes overlap (the objects' own surfaces, what they cover) and returns the
+// boxes as the cascade's shadow map sees them, fewer: a box at most half a shadow cell wide grows
+// to the cells (a quarter page each, inside one page) it touches, and each such cell is kept
+// once; larger boxes and boxes outside the window stay as they are. Growing a box only adds
+// shadow, so this stays conservative, and in coarse cascades thousands of small objects share a
+// few hundred cells.
+std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<const Box> boxes) {
+  constexpr int kCells = kPagesPerAxis * int(kShadowCellsPerPage);  // per axis
+  const float cell = pages.edge / kShadowCellsPerPage;
+  std::vector<std::uint64_t> seen(std::size_t(kCells) * kCells * kCells / 64, 0);
+  std::vector<Box> out;
+  auto keep = [&](glm::ivec3 c) {
+    const std::size_t bit =
+        std::size_t(c.x) + std::size_t(kCells) * (c.y + std::size_t(kCells) * c.z);
+    std::uint64_t& word = seen[bit / 64];
+    const std::uint64_t mask = std::uint64_t(1) << (bit % 64);
+    if (word & mask) return;
+    word |= mask;
+    pages.markPage(c / int(kShadowCellsPerPage));
+    const glm::vec3 lo = pages.origin + glm::vec3(c) * cell;
+    out.push_back({lo, lo + glm::vec3(cell)});
+  };
+  for (const Box& b : boxes) {
+    const glm::vec3 lo = (b.lo - pages.origin) / cell, hi = (b.hi - pages.origin) / cell;
+    const bool small = glm::all(glm::lessThanEqual(hi - lo, glm::vec3(0.5f)));
+    const bool inside = glm::all(glm::greaterThanEqual(lo, glm::vec3(0.0f))) &&
+                        glm::all(glm::lessThan(hi, glm::vec3(float(kCells))));
+    if (!small || !inside) {
+      pages.markBox(b);
+      out.push_back(b);
+      continue;
+    }
+    // A box ending exactly on a cell face stays in the cell below it (cells are closed), so a
+    // finer cascade's cell falls in exactly one cell here (cascade origins are whole pages).
+    const glm::ivec3 a(glm::floor(lo)), z = glm::max(a, glm::ivec3(glm::ceil(hi)) - 1);
+    for (int cz = a.z; cz <= z.z; ++cz)
+      for (int cy = a.y; cy <= z.y; ++cy)
+        for (int cx = a.x; cx <= z.x; ++cx) keep({cx, cy, cz});
+  }
+  return out;
+}
+
+// The shadows of every box under a sun shining along `away` (unit, away from the light), as a
+// shadow map of the cascade: light-space cells a quarter of a page edge wide over the cascade's
+// projection, each holding the nearest depth (along `away`) of the boxes whose
+// projected rectangle touches it. A page is marked when a cell under its own projected rectangle
+// holds a depth no farther than the page's far side. Conservative: a point x of a box shadows
+// a point x + s·away (s >= 0) of the page; both project to one cell, whose depth is at most
+// depth(x) <= depth(x + s·away) <= the page's far depth.
+void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 away) {
+  // A light-space basis: `away` and two unit vectors across it.
+  const glm::vec3 helper = std::abs(away.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  const glm::vec3 t1 = glm::normalize(glm::cross(away, helper));
+  const glm::vec3 t2 = glm::cross(away, t1);
+  const glm::vec3 a1 = glm::abs(t1), a2 = glm::abs(t2), a0 = glm::abs(away);
+  struct Footprint {
+    glm::vec2 lo, hi;
+    float nearDepth, farDepth;
+  };
+  // A box's projection from its centre and half extents: |t|·h is the half width along t.
+  auto project = [&](glm::vec3 centre, glm::vec3 half) {
+    const glm::vec2 c(glm::dot(centre, t1), glm::dot(centre, t2));
+    const glm::vec2 r(glm::dot(half, a1), glm::dot(half, a2));
+    const float d = glm::dot(centre, away), dr = glm::dot(half, a0);
+    return Footprint{c - r, c + r, d - dr, d + dr};
+  };
+  const glm::vec3 windowHalf(0.5f * float(kPagesPerAxis) * pages.edge);
+  const Footprint cascade = project(pages.origin + windowHalf, windowHalf);
+  const float cell = pages.edge / kShadowCellsPerPage;
+  const glm::ivec2 cells =
+      glm::max(glm::ivec2(glm::ceil((cascade.hi - cascade.lo) / cell)), glm::ivec2(1));
+  std::vector<float> nearest(std::size_t(cells.x) * std::size_t(cells.y), 1e30f);
+  // Inclusive cell range of a footprint; false when it misses the map.
+  auto cellRange = [&](const Footprint& f, glm::ivec2& a, glm::ivec2& z) {
+    if (f.hi.x < cascade.lo.x || f.hi.y < cascade.lo.y || f.lo.x > cascade.hi.x ||
+        f.lo.y > cascade.hi.y)
+      return false;
+    a = glm::clamp(glm::ivec2(glm::floor((f.lo - cascade.lo) / cell)), glm::ivec2(0), cells - 1);
+    z = glm::clamp(glm::ivec2(glm::floor((f.hi - cascade.lo) / cell)), glm::ivec2(0), cells - 1);
+    return true;
+  };
+  bool any = false;
+  for (const Box& b : boxes) {
+    const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
+    glm::ivec2 a, z;
+    // A box past the cascade's far side shadows nothing of it.
+    if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
+    any = true;
+    for (int y = a.y; y <= z.y; ++y)
+      for (int x = a.x; x <= z.x; ++x) {
+        float& d = nearest[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
+        d = std::min(d, f.nearDepth);
+      }
+  }
+  if (!any) return;
+  // Only resident pages can be relit, so only they are looked up.
+  const glm::vec3 pageHalf(0.5f * pages.edge);
+  for (int pz = 0; pz < kPagesPerAxis; ++pz)
+    for (int py = 0; py < kPagesPerAxis; ++py)
+      for (int px = 0; px < kPagesPerAxis; ++px) {
+        if (!pages.resident({px, py, pz})) continue;
+        const glm::vec3 centre = pages.origin + (glm::vec3(px, py, pz) + 0.5f) * pages.edge;
+        const Footprint f = project(centre, pageHalf);
+        glm::ivec2 a, z;
+        if (!cellRange(f, a, z)) continue;
+        bool shadowed = false;
+        for (int y = a.y; y <= z.y && !shadowed; ++y)
+          for (int x = a.x; x <= z.x && !shadowed; ++x)
+            shadowed =
+                nearest[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)] <= f.farDepth;
+        if (shadowed) pages.markPage({px, py, pz});
+      }
+}
+
+// The part of the box's shadow between distances s0 and s1 from a point light: every corner
+// moved s0 and s1 stack voxels away from the light, as one box. Marking the shadow piece by
+// piece follows a slanted shadow closely, where one box around the whole sweep would cover a
+// quarter of a cascade.
+Box pointShadowSegment(const Box& b, glm::vec3 lightPos, float s0, float s1) {
   Box out{glm::vec3(1e30f), glm::vec3(-1e30f)};
-  const bool sun = std::uint32_t(light.positionType.w + 0.5f) == gs::kLightSun;
-  const glm::vec3 lightPos(light.positionType);
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 p((corner & 1) ? b.hi.x : b.lo.x, (corner & 2) ? b.hi.y : b.lo.y,
-                      (corner & 4) ? b.hi.z : b.lo.z);
-    const glm::vec3 away = sun ? -glm::normalize(glm::vec3(light.direction)) : p - lightPos;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 p = corner(b, k);
+    const glm::vec3 away = p - lightPos;
     const glm::vec3 u = away / std::max(glm::length(away), 1e-6f);
     for (float sv : {s0, s1}) {
       out.lo = glm::min(out.lo, p + u * sv);
@@ -33,8 +204,26 @@ Box shadowSegment(const Box& b, const gs::GpuLight& light, float s0, float s1) {
   return out;
 }
 
-bool contains(const Box& b, glm::vec3 p) {
-  return glm::all(glm::greaterThanEqual(p, b.lo)) && glm::all(glm::lessThanEqual(p, b.hi));
+// A point or spot light: each box swept away from it until `reach`, in segments a page long
+// near the box that grow by a quarter of their distance after (the shadow widens with distance
+// anyway). A light inside a box may change anything in the cascade.
+void markPointShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 lightPos,
+                      float reach) {
+  const Box window{pages.origin, pages.origin + glm::vec3(float(kPagesPerAxis) * pages.edge)};
+  for (const Box& b : boxes) {
+    if (contains(b, lightPos)) {
+      pages.markBox(window);
+      return;
+    }
+    for (float s0 = 0.0f; s0 < reach;) {
+      const float s1 = std::min(reach, s0 + std::max(pages.edge, 0.25f * s0));
+      const Box seg = pointShadowSegment(b, lightPos, s0, s1);
+      if (glm::all(glm::lessThanEqual(seg.lo, window.hi)) &&
+          glm::all(glm::greaterThanEqual(seg.hi, window.lo)))
+        pages.markBox(seg);
+      s0 = s1;
+    }
+  }
 }
 }  // namespace
 
@@ -44,53 +233,34 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
   std::vector<std::uint32_t> pages;
   if (changed.empty() || stack.params.empty()) return pages;
   const float reach = 128.0f * stack.params.back().offsetScale.w * 1.7320508f;
-  // Pages are marked by the range each swept box covers, so the cost is the pages covered (and
-  // stops once a cascade is all marked), not pages × boxes: thousands of objects move at once.
+  std::vector<Box> boxes(changed.size());
+  for (std::size_t i = 0; i < changed.size(); ++i)
+    boxes[i] = Box{stack.toStack(changed[i].min), stack.toStack(changed[i].max)};
+
   const std::size_t cascades = stack.params.size();
   std::vector<std::uint8_t> marked(cascades * gs::kCascadePageCount, 0);
-  std::vector<std::uint32_t> markedCount(cascades, 0);
-  auto mark = [&](const Box& b) {
-    for (std::uint32_t c = 0; c < cascades; ++c) {
-      if (markedCount[c] == gs::kCascadePageCount) continue;
-      const gs::CascadeTraceParams& p = stack.params[c];
-      const glm::vec3 origin(p.offsetScale);
-      const float pageEdge = 8.0f * p.offsetScale.w;
-      const glm::vec3 lo = (b.lo - origin) / pageEdge, hi = (b.hi - origin) / pageEdge;
-      if (hi.x < 0 || hi.y < 0 || hi.z < 0 || lo.x > 16 || lo.y > 16 || lo.z > 16) continue;
-      const glm::ivec3 a = glm::clamp(glm::ivec3(glm::floor(lo)), glm::ivec3(0), glm::ivec3(15));
-      const glm::ivec3 z = glm::clamp(glm::ivec3(glm::floor(hi)), glm::ivec3(0), glm::ivec3(15));
-      for (int pz = a.z; pz <= z.z; ++pz)
-        for (int py = a.y; py <= z.y; ++py)
-          for (int px = a.x; px <= z.x; ++px) {
-            const std::uint32_t entry = ((std::uint32_t(px) + p.toroidal.x) & 15u) +
-                                        16u * (((std::uint32_t(py) + p.toroidal.y) & 15u) +
-                                               16u * ((std::uint32_t(pz) + p.toroidal.z) & 15u));
-            std::uint8_t& m = marked[c * gs::kCascadePageCount + entry];
-            if (!m) {
-              m = 1;
-              ++markedCount[c];
-            }
-          }
-    }
-  };
-  for (const WorldBox& w : changed) {
-    const Box b{stack.toStack(w.min), stack.toStack(w.max)};
-    mark(b);  // the object's own surfaces and what it covers
-    for (const gs::GpuLight& l : lights) {
-      if (l.shape.w <= 0.5f) continue;
-      const bool sun = std::uint32_t(l.positionType.w + 0.5f) == gs::kLightSun;
-      if (!sun && contains(b, glm::vec3(l.positionType))) {  // a light inside: anything goes
-        mark(Box{glm::vec3(-1e30f), glm::vec3(1e30f)});
-        continue;
-      }
-      // Segments a page long near the object, growing by a quarter of their distance after.
-      for (float s0 = 0.0f; s0 < reach;) {
-        const float s1 = std::min(reach, s0 + std::max(8.0f, 0.25f * s0));
-        mark(shadowSegment(b, l, s0, s1));
-        s0 = s1;
-      }
-    }
+  std::vector<CascadePages> grids;
+  for (std::size_t c = 0; c < cascades; ++c) {
+    const gs::CascadeTraceParams& p = stack.params[c];
+    grids.push_back({glm::vec3(p.offsetScale), 8.0f * p.offsetScale.w, glm::uvec3(p.toroidal),
+                     &marked[c * gs::kCascadePageCount], &stack.pageTables[p.toroidal.w]});
   }
+  // Each cascade's casters from the finer cascade's: a cell there is half a cell here, so the
+  // boxes thin out cascade by cascade instead of being gathered from all of them six times.
+  std::vector<std::vector<Box>> casters(cascades);
+  for (std::size_t c = 0; c < cascades; ++c)
+    casters[c] = markBoxesAndGatherCasters(
+        grids[c], c == 0 ? std::span<const Box>(boxes) : std::span<const Box>(casters[c - 1]));
+  tbb::parallel_for(std::size_t(0), cascades, [&](std::size_t c) {
+    for (const gs::GpuLight& l : lights) {
+      if (l.shape.w <= 0.5f) continue;  // casts no shadow
+      if (isSun(l)) {
+        markSunShadows(grids[c], casters[c], -glm::normalize(glm::vec3(l.direction)));
+      } else {
+        markPointShadows(grids[c], boxes, glm::vec3(l.positionType), reach);
+      }
+    }
+  });
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const std::uint32_t base = stack.params[c].toroidal.w;
     for (std::uint32_t e = 0; e < gs::kCascadePageCount; ++e)

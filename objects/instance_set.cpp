@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 namespace sdfstream {
@@ -26,9 +28,14 @@ void ObjectTransform::validate() const {
 
 glm::dmat4 ObjectTransform::matrix() const {
   validate();
-  const glm::dquat r = glm::normalize(glm::dquat(rotation.w, rotation.x, rotation.y, rotation.z));
-  return glm::translate(glm::dmat4(1.0), translation) * glm::mat4_cast(r) *
-         glm::scale(glm::dmat4(1.0), glm::dvec3(scale));
+  // T·R·S composed directly: R's columns scaled, then the translation (no 4×4 products; this
+  // runs for every instance every frame).
+  const glm::dmat3 r =
+      glm::mat3_cast(glm::normalize(glm::dquat(rotation.w, rotation.x, rotation.y, rotation.z)));
+  glm::dmat4 m(1.0);
+  for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c] * double(scale[c]), 0.0);
+  m[3] = glm::dvec4(translation, 1.0);
+  return m;
 }
 
 WorldBox worldBoundsOf(const ObjectSdf& sdf, const ObjectTransform& pose) {
@@ -98,14 +105,54 @@ void InstanceSet::recordChange(const Instance& instance, bool existedBefore) {
 }
 
 std::vector<WorldBox> InstanceSet::changedBoxes(const ObjectLibrary& lib) const {
+  // Two candidate boxes per change (before, now), computed in parallel: thousands of instances
+  // move every frame in a stress scene. Then compacted in order of first change.
+  struct Pair {
+    WorldBox box[2];
+    bool has[2];
+  };
+  std::vector<Pair> pairs(changes_.size());
+  for (const Change& c : changes_) lib.mesh(c.mesh);  // an unknown mesh throws here, not in a task
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changes_.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Change& c = changes_[i];
+                        const ObjectSdf& sdf = lib.mesh(c.mesh);
+                        Pair& p = pairs[i];
+                        p.has[0] = c.before.has_value();
+                        if (p.has[0]) p.box[0] = worldBoundsOf(sdf, *c.before);
+                        const Instance* now = find(c.id);
+                        p.has[1] = now != nullptr;
+                        if (now) p.box[1] = worldBoundsOf(sdf, now->pose);
+                      }
+                    });
   std::vector<WorldBox> boxes;
   boxes.reserve(changes_.size() * 2);
-  for (const Change& c : changes_) {
-    const ObjectSdf& sdf = lib.mesh(c.mesh);
-    if (c.before) boxes.push_back(worldBoundsOf(sdf, *c.before));
-    if (const Instance* now = find(c.id)) boxes.push_back(worldBoundsOf(sdf, now->pose));
-  }
+  for (const Pair& p : pairs)
+    for (int k = 0; k < 2; ++k)
+      if (p.has[k]) boxes.push_back(p.box[k]);
   return boxes;
+}
+
+std::vector<WorldBox> InstanceSet::changedBounds(const ObjectLibrary& lib) const {
+  std::vector<WorldBox> boxes = changedBoxes(lib);
+  // changedBoxes lists a change's start pose (if any) right before its end pose (if any): merge
+  // each pair into one box.
+  std::vector<WorldBox> merged;
+  merged.reserve(changes_.size());
+  std::size_t k = 0;
+  for (const Change& c : changes_) {
+    const bool before = c.before.has_value(), now = contains(c.id);
+    if (!before && !now) continue;
+    WorldBox b = boxes[k++];
+    if (before && now) {
+      b.min = glm::min(b.min, boxes[k].min);
+      b.max = glm::max(b.max, boxes[k].max);
+      ++k;
+    }
+    merged.push_back(b);
+  }
+  return merged;
 }
 
 void InstanceSet::endFrame() {

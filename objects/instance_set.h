@@ -72,6 +72,9 @@ class InstanceSet {
   // instance added and removed in one frame reports nothing. Mesh bounds from lib (an unknown
   // mesh index: std::out_of_range).
   std::vector<WorldBox> changedBoxes(const ObjectLibrary& lib) const;
+  // The same with each instance's start and end boxes merged into one (their AABB): half the
+  // boxes, each covering the whole change, for consumers that only need to be conservative.
+  std::vector<WorldBox> changedBounds(const ObjectLibrary& lib) const;
   // Clears movedThisFrame and the change record.
   void endFrame();
 

@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "core/split_mix_rng.h"
 #include "objects/primitive_meshes.h"
@@ -86,12 +91,20 @@ ObjectTransform ScriptedMotion::poseAt(std::size_t binding, double t) const {
 }
 
 void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
-  for (std::size_t i = 0; i < bindings_.size(); ++i) {
-    const Instance* instance = set.find(bindings_[i].id);
-    if (!instance) continue;
-    const ObjectTransform pose = poseAt(i, timeSeconds);
-    if (pose != instance->pose) set.move(bindings_[i].id, pose);
-  }
+  // Poses in parallel (each a pure function of t), then the moves in order: InstanceSet is not
+  // thread-safe, and a move is a few stores next to a pose's trigonometry.
+  std::vector<std::optional<ObjectTransform>> poses(bindings_.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bindings_.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Instance* instance = set.find(bindings_[i].id);
+                        if (!instance) continue;
+                        const ObjectTransform pose = poseAt(i, timeSeconds);
+                        if (pose != instance->pose) poses[i] = pose;
+                      }
+                    });
+  for (std::size_t i = 0; i < bindings_.size(); ++i)
+    if (poses[i]) set.move(bindings_[i].id, *poses[i]);
 }
 
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,

@@ -211,5 +211,36 @@ TEST(InstanceSet, ChangedBoxesCoverOldAndNewPosesUntilEndFrame) {
   EXPECT_THROW(set.changedBoxes(lib), std::out_of_range);
 }
 
+TEST(InstanceSet, ChangedBoundsMergeEachChangesStartAndEndBoxes) {
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
+  const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
+  const ObjectSdf& sdf = lib.mesh(mesh);
+  InstanceSet set;
+  const InstanceId a = set.add(mesh, at(0)), b = set.add(mesh, at(10));
+  set.add(mesh, at(20));
+  set.endFrame();
+  set.move(a, at(3));
+  set.remove(b);
+  const InstanceId d = set.add(mesh, at(40));
+  set.move(d, at(41));
+  const std::vector<WorldBox> bounds = set.changedBounds(lib);
+  ASSERT_EQ(bounds.size(), 3u);  // one per changed instance that existed at either end
+  const WorldBox from0 = worldBoundsOf(sdf, at(0)), to3 = worldBoundsOf(sdf, at(3));
+  EXPECT_TRUE(
+      sameBox(bounds[0], WorldBox{glm::min(from0.min, to3.min), glm::max(from0.max, to3.max)}));
+  EXPECT_TRUE(sameBox(bounds[1], worldBoundsOf(sdf, at(10))));  // removed: its start pose
+  EXPECT_TRUE(sameBox(bounds[2], worldBoundsOf(sdf, at(41))));  // added: its end pose
+  // Every box changedBoxes reports lies inside one of the merged bounds.
+  for (const WorldBox& box : set.changedBoxes(lib)) {
+    bool inside = false;
+    for (const WorldBox& m : bounds)
+      inside = inside || (glm::all(glm::greaterThanEqual(box.min, m.min)) &&
+                          glm::all(glm::lessThanEqual(box.max, m.max)));
+    EXPECT_TRUE(inside);
+  }
+  set.endFrame();
+  EXPECT_TRUE(set.changedBounds(lib).empty());
+}
+
 }  // namespace
 }  // namespace sdfstream
