@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <utility>
 
 #include "core/atomic_dir.h"
 #include "core/stats.h"
@@ -15,7 +16,11 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint32_t kGoalObjects = 10000;
-constexpr double kGoalRatio = 1.5;
+constexpr double kGoalRatio = 2.0;  // regions + probe update vs static-only (stretch 1.5)
+// The other targets: (objects, largest cost ratio) and the host time at kGoalObjects.
+constexpr std::pair<std::uint32_t, double> kCountGoals[] = {{100, 1.1}, {1000, 1.3}, {10000, 2.0}};
+constexpr double kGoalLightRatio = 3.0;  // ... with the light cache, at kGoalObjects
+constexpr double kGoalHostMs = 2.0;
 
 double medianOf(const StressRun& run, const std::function<double(const StressFrame&)>& get) {
   std::vector<double> v;
@@ -160,7 +165,7 @@ void writePlots(const fs::path& dir, const std::vector<StressRun>& runs) {
            [](const RunSummary& s) { return s.costMs; });
   if (measured(st)) {
     addLevel(cost, counts, "static-only probe update", kStaticColor, base.probeMs);
-    addLevel(cost, counts, "goal: 1.5x static-only", kGoalColor, kGoalRatio * base.probeMs);
+    addLevel(cost, counts, "goal: 2x static-only", kGoalColor, kGoalRatio * base.probeMs);
   }
   writeChartPng(dir / "probe-update.png", cost);
 
@@ -260,6 +265,35 @@ std::string scalingSection(const std::vector<StressRun>& runs) {
       md += " At " + withCommas(std::uint64_t(b.n)) + " objects the naive walk takes " +
             format("%.1f", b.naiveSteps / b.steps) + "x the regions walk's object steps.";
     md += "\n";
+  }
+  return md;
+}
+
+// Every target of the benchmark in one table: measured against the goal, yes or no.
+std::string goalsSection(const std::vector<StressRun>& runs) {
+  const StressRun* st = findRun(runs, Mode::Static, 0);
+  if (!measured(st)) return "";
+  const RunSummary base = summarize(*st);
+  if (!(base.probeMs > 0.0)) return "";
+  std::string md = "\n## Goals\n\n| target | goal | measured | met |\n|---|---|---|---|\n";
+  auto row = [&](const std::string& what, const std::string& goal, double value, bool met) {
+    md += "| " + what + " | " + goal + " | " + format("%.2f", value) + " | " +
+          (met ? "yes" : "**no**") + " |\n";
+  };
+  for (const auto& [objects, ratio] : kCountGoals) {
+    const StressRun* r = findRun(runs, Mode::Regions, objects);
+    if (!measured(r)) continue;
+    const RunSummary s = summarize(*r);
+    row(withCommas(objects) + " objects: regions + probe update / static-only",
+        format("<= %.1fx", ratio), s.costMs / base.probeMs, s.costMs / base.probeMs <= ratio);
+  }
+  if (const StressRun* g = findRun(runs, Mode::Regions, kGoalObjects); measured(g)) {
+    const RunSummary s = summarize(*g);
+    const double light = (s.costMs + s.lightMs) / (base.probeMs + base.lightMs);
+    row(withCommas(kGoalObjects) + " objects: with the light cache / static-only's",
+        format("<= %.1fx", kGoalLightRatio), light, light <= kGoalLightRatio);
+    row(withCommas(kGoalObjects) + " objects: host ms per frame", format("<= %.1f", kGoalHostMs),
+        s.hostMs, s.hostMs <= kGoalHostMs);
   }
   return md;
 }
@@ -376,7 +410,7 @@ StressChecks checkRuns(const std::vector<StressRun>& runs) {
   const StressRun* st = findRun(runs, Mode::Static, 0);
   const StressRun* zero = findRun(runs, Mode::Regions, 0);
   const std::string goal = "Goal (" + withCommas(kGoalObjects) +
-                           " spread objects cost <= 1.5x the static-only probe update): ";
+                           " spread objects cost <= 2x the static-only probe update): ";
   if (!measured(st)) {
     c.goalLine = goal + "not measured (no static-only run).";
     c.zeroLine = "0 objects vs static-only: not measured (no static-only run).";
@@ -574,6 +608,7 @@ void writeStressReport(const fs::path& dir, const StressSetup& setup,
       "time of the scripted motion and of recording the GI frame (no waits; by part under Host "
       "time).\n\n";
   md += stressTable(runs);
+  md += goalsSection(runs);
   md += scalingSection(runs);
   md += hostSection(runs);
   md +=

@@ -82,6 +82,12 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
         if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, lo + glm::vec3(ro.w))) continue;
         lists_[g].push_back(i);
         if (inst.info.y & gs::kObjectFlagMoved) moved_[g] = 1;
+        const auto sub =
+            p.objSubCellRange(glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
+        for (int z = sub.lo.z; z <= sub.hi.z; ++z)
+          for (int y = sub.lo.y; y <= sub.hi.y; ++y)
+            regions_[g].occupancy[p.objOccupancyWord(y, z)] |= p.objRowMask(sub.lo.x, sub.hi.x)
+                                                               << p.objOccupancyShift(y);
       }
       regions_[g].start = std::uint32_t(flat_.size());
       regions_[g].count = std::uint32_t(lists_[g].size());

@@ -22,6 +22,8 @@ class ObjectSceneCpu {
   const std::vector<std::vector<std::uint32_t>>& regionInstances() const { return lists_; }
   // Regions a moved instance (this frame) overlaps, or the host marked from changed boxes.
   bool regionMoved(std::uint32_t region) const;
+  // Per region: the occupancy bitfield (object_layout.h) of its listed instances' AABBs.
+  const std::vector<gpu_shared::ObjectRegionGpu>& regions() const { return regions_; }
 
   // objTraceRegions / objTraceAll of shaders/object_trace.glsl, as C++.
   gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray) const;

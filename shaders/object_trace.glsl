@@ -18,12 +18,12 @@
 // Rays are in stack space (cascade-0 voxels from cascade 0's minimum corner), unit direction.
 
 struct ObjectHit {
-  float t;          // stack voxels along the ray; < 0: no hit
-  uint instance;    // index into OBJ_INSTANCE
-  vec3 normal;      // unit, stack space
-  uint albedo;      // RGBA8 of the sample nearest to the hit
-  uint emission;    // RGB9E5
-  uint steps;       // sphere-tracing steps over all instances tried (cost metric)
+  float t;        // stack voxels along the ray; < 0: no hit
+  uint instance;  // index into OBJ_INSTANCE
+  vec3 normal;    // unit, stack space
+  uint albedo;    // RGBA8 of the sample nearest to the hit
+  uint emission;  // RGB9E5
+  uint steps;     // sphere-tracing steps over all instances tried (cost metric)
   uint instancesTried;
 };
 
@@ -100,8 +100,8 @@ float objInstanceDistance(uint i, vec3 p) {
   ObjectInstanceGpu inst = OBJ_INSTANCE(i);
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
   vec3 g = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], p);
-  vec3 hi = vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u),
-                 float(m.dimsOffset.z - 1u));
+  vec3 hi =
+      vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u), float(m.dimsOffset.z - 1u));
   vec3 outside = max(max(-g, g - hi), vec3(0.0f));
   return (objGridDistance(m, g) + length(outside)) * inst.boundsMin.w;
 }
@@ -115,8 +115,8 @@ ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
   vec3 go = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], o);
   vec3 gd = objLinear(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], d);
-  vec3 hi = vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u),
-                 float(m.dimsOffset.z - 1u));
+  vec3 hi =
+      vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u), float(m.dimsOffset.z - 1u));
   vec2 span = objBoxClip(go, objSafeInverse(gd), vec3(0.0f), hi);
   float t = max(t0, span.x);
   float tEnd = min(t1, span.y);
@@ -134,9 +134,12 @@ ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
       h.instance = i;
       // Normal: the grid gradient carried to stack space (the gradient of d(gridFromStack·p)).
       float e = 0.5f;
-      float dx = objGridDistance(m, g + vec3(e, 0.0f, 0.0f)) - objGridDistance(m, g - vec3(e, 0.0f, 0.0f));
-      float dy = objGridDistance(m, g + vec3(0.0f, e, 0.0f)) - objGridDistance(m, g - vec3(0.0f, e, 0.0f));
-      float dz = objGridDistance(m, g + vec3(0.0f, 0.0f, e)) - objGridDistance(m, g - vec3(0.0f, 0.0f, e));
+      float dx =
+          objGridDistance(m, g + vec3(e, 0.0f, 0.0f)) - objGridDistance(m, g - vec3(e, 0.0f, 0.0f));
+      float dy =
+          objGridDistance(m, g + vec3(0.0f, e, 0.0f)) - objGridDistance(m, g - vec3(0.0f, e, 0.0f));
+      float dz =
+          objGridDistance(m, g + vec3(0.0f, 0.0f, e)) - objGridDistance(m, g - vec3(0.0f, 0.0f, e));
       vec3 r0 = vec3(inst.gridFromStack[0].x, inst.gridFromStack[0].y, inst.gridFromStack[0].z);
       vec3 r1 = vec3(inst.gridFromStack[1].x, inst.gridFromStack[1].y, inst.gridFromStack[1].z);
       vec3 r2 = vec3(inst.gridFromStack[2].x, inst.gridFromStack[2].y, inst.gridFromStack[2].z);
@@ -148,7 +151,8 @@ ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
       float len = length(n);
       h.normal = len > 1e-12f ? n / len : -d;
       vec3 c = clamp(g + vec3(0.5f), vec3(0.0f), hi);
-      uint idx = m.dimsOffset.w + uint(c.x) + m.dimsOffset.x * (uint(c.y) + m.dimsOffset.y * uint(c.z));
+      uint idx =
+          m.dimsOffset.w + uint(c.x) + m.dimsOffset.x * (uint(c.y) + m.dimsOffset.y * uint(c.z));
       uvec2 material = OBJ_MAT(idx);
       h.albedo = material.x;
       h.emission = material.y;
@@ -166,7 +170,8 @@ ObjectHit objNearer(ObjectHit best, ObjectHit h) {
   uint steps = best.steps + h.steps;
   uint tried = best.instancesTried + h.instancesTried;
   ObjectHit r = best;
-  if (h.t >= 0.0f && (best.t < 0.0f || h.t < best.t || (h.t == best.t && h.instance < best.instance)))
+  if (h.t >= 0.0f &&
+      (best.t < 0.0f || h.t < best.t || (h.t == best.t && h.instance < best.instance)))
     r = h;
   r.steps = steps;
   r.instancesTried = tried;
@@ -186,6 +191,72 @@ ObjectHit objTraceAll(vec3 o, vec3 d, float tMin, float tMax) {
     best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT));
   }
   return best;
+}
+
+// Occupancy sub-cells (object_layout.h): the inclusive sub-cell range [lo, hi] (0..7) of region
+// [rLo, rLo + edge] that the stack-space AABB [bmin, bmax] touches (faces included), and the
+// 8-bit row mask of x bits lo..hi. Row (y, z) lives in word y / 4 + 2z at bit 8 · (y % 4).
+struct ObjSubRange {
+  ivec3 lo;
+  ivec3 hi;
+};
+
+ObjSubRange objSubCellRange(vec3 bmin, vec3 bmax, vec3 rLo, float edge) {
+  float sub = edge / float(kSubCellsPerAxis);
+  ObjSubRange r;
+  r.lo = clamp(ivec3(floor((bmin - rLo) / sub)), ivec3(0), ivec3(7));
+  r.hi = clamp(ivec3(floor((bmax - rLo) / sub)), ivec3(0), ivec3(7));
+  return r;
+}
+
+uint objRowMask(int lo, int hi) { return ((2u << uint(hi)) - 1u) & ~((1u << uint(lo)) - 1u); }
+
+uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
+uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
+
+// The part of [t0, t1] (the ray's stretch inside region `region`, whose box starts at rLo) that
+// crosses occupied sub-cells: a 3D DDA over the region's 8³ sub-cells (Amanatides & Woo), at
+// most 22 steps. Empty (x > y) when every sub-cell the ray crosses is empty: no listed object
+// can be hit there, so none is tested.
+vec2 objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo, float edge) {
+  float sub = edge / float(kSubCellsPerAxis);
+  vec2 span = vec2(1e30f, -1e30f);
+  float t = t0;
+  vec3 p = (o + d * t - rLo) / sub;
+  ivec3 cell = clamp(ivec3(floor(p)), ivec3(0), ivec3(7));
+  ivec3 stepDir = ivec3(d.x >= 0.0f ? 1 : -1, d.y >= 0.0f ? 1 : -1, d.z >= 0.0f ? 1 : -1);
+  vec3 tNext = vec3(1e30f);
+  vec3 tDelta = vec3(1e30f);
+  for (int a = 0; a < 3; ++a) {
+    if (abs(d[a]) > 1e-12f) {
+      float face = rLo[a] + (float(cell[a]) + (stepDir[a] > 0 ? 1.0f : 0.0f)) * sub;
+      tNext[a] = (face - o[a]) / d[a];
+      tDelta[a] = sub / abs(d[a]);
+    }
+  }
+  for (uint s = 0u; s < 24u; ++s) {
+    float exitT = min(tNext.x, min(tNext.y, tNext.z));
+    uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
+    if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
+      span.x = min(span.x, t);
+      span.y = max(span.y, exitT);
+    }
+    if (exitT >= t1) break;
+    t = exitT;
+    if (tNext.x <= tNext.y && tNext.x <= tNext.z) {
+      cell.x += stepDir.x;
+      tNext.x += tDelta.x;
+    } else if (tNext.y <= tNext.z) {
+      cell.y += stepDir.y;
+      tNext.y += tDelta.y;
+    } else {
+      cell.z += stepDir.z;
+      tNext.z += tDelta.z;
+    }
+    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x > 7 || cell.y > 7 || cell.z > 7) break;
+  }
+  span.y = min(span.y, t1);
+  return span;
 }
 
 // Whether a region grid cascade c holds stack point p (faces included).
@@ -234,12 +305,24 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     vec3 rLo = lo + vec3(float(r.x), float(r.y), float(r.z)) * ro.w;
     float exitT = objBoxClip(o, inv, rLo, rLo + vec3(ro.w)).y;
     float segEnd = min(exitT, tEnd);
-    ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
-    for (uint k = 0u; k < region.count; ++k) {
-      uint i = OBJ_LIST(region.start + k);
-      // A little past the region's exit, so a surface exactly on its face is not lost.
-      float hiT = best.t >= 0.0f ? min(best.t, segEnd + 1e-3f) : segEnd + 1e-3f;
-      best = objNearer(best, objTraceInstance(i, o, d, t, hiT));
+    uint regionIndex = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
+    uint count = OBJ_REGION(regionIndex).count;
+    // Only the stretch that crosses occupied sub-cells can hold a hit (every listed instance's
+    // AABB is inside them), with a hair of slack at both ends for rounding.
+    vec2 occupied =
+        count > 0u ? objOccupiedSpan(regionIndex, o, d, t, segEnd, rLo, ro.w) : vec2(1.0f, 0.0f);
+    float from = max(t, occupied.x - 1e-4f * ro.w);
+    uint start = OBJ_REGION(regionIndex).start;
+    for (uint k = 0u; k < count && occupied.x <= occupied.y; ++k) {
+      uint i = OBJ_LIST(start + k);
+      // A little past the stretch's end, so a surface exactly on a face is not lost.
+      float hiT = best.t >= 0.0f ? min(best.t, occupied.y + 1e-3f) : occupied.y + 1e-3f;
+      // The instance's AABB first (two loads), before its grid maps and any SDF read.
+      vec4 bmin = OBJ_INSTANCE(i).boundsMin;
+      vec4 bmax = OBJ_INSTANCE(i).boundsMax;
+      vec2 box = objBoxClip(o, inv, vec3(bmin.x, bmin.y, bmin.z), vec3(bmax.x, bmax.y, bmax.z));
+      if (max(box.x, from) > min(box.y, hiT)) continue;
+      best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
     }
     if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;
     t = max(exitT, t + 1e-4f * ro.w);
@@ -298,9 +381,8 @@ ObjRegionRange objRegionRange(ObjectInstanceGpu inst, uint c) {
   vec3 bmax = (vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z) - o) / ro.w;
   rr.lo = max(ivec3(floor(bmin)), ivec3(0));
   rr.hi = min(ivec3(floor(bmax)), ivec3(7));
-  rr.any = rr.lo.x <= rr.hi.x && rr.lo.y <= rr.hi.y && rr.lo.z <= rr.hi.z &&
-           bmax.x >= 0.0f && bmax.y >= 0.0f && bmax.z >= 0.0f && bmin.x <= 8.0f &&
-           bmin.y <= 8.0f && bmin.z <= 8.0f;
+  rr.any = rr.lo.x <= rr.hi.x && rr.lo.y <= rr.hi.y && rr.lo.z <= rr.hi.z && bmax.x >= 0.0f &&
+           bmax.y >= 0.0f && bmax.z >= 0.0f && bmin.x <= 8.0f && bmin.y <= 8.0f && bmin.z <= 8.0f;
   // Size rule: cascade c's voxel is ro.w / 16 stack voxels; an object whose bounding radius is
   // below sizeRule voxels of it is not listed there (cascade 0 lists every object).
   if (c > 0u && inst.boundsMax.w < OBJ_FRAME.params.x * ro.w / 16.0f) rr.any = false;

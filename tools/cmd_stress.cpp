@@ -76,7 +76,7 @@ const char* kHelp =
     "rays traced and the object rays, hits and steps; downloads every probe's irradiance every\n"
     "100 frames and at the end to count non-finite texels; counts validation messages.\n"
     "Writes DIR/results.csv (one row per count and mode), DIR/frames.csv (every frame),\n"
-    "DIR/summary.md (the table, the goal check: 10,000 objects cost <= 1.5x the static-only\n"
+    "DIR/summary.md (the table, the goal check: 10,000 objects cost <= 2x the static-only\n"
     "probe update, and the 0-object run = static-only check) and DIR/probe-update.png,\n"
     "probe-trace.png, region-build.png (ms vs object count). DIR is replaced atomically after\n"
     "every run, so a run stopped early leaves the results of the runs it finished.\n"

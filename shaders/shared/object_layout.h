@@ -25,6 +25,11 @@ SDF_CONST uint kRegionCells = 16;         // cascade cells per macro-region edge
 SDF_CONST uint kRegionsPerAxis = 8;       // 8 × 16 = 128 = kCascadeCells
 SDF_CONST uint kRegionsPerCascade = 512;  // 8³
 SDF_CONST uint kMaxRegionCascades = 4;    // cascades that may hold object lists
+// Occupancy: each region is split into 8³ sub-cells of 2³ cells (GS slides b, "Split into
+// smaller SDFs and combine with DDA": a bitfield "for looking up empty cells beforehand"); bit
+// x + 8y + 64z of a region's 512 says some listed instance's AABB touches sub-cell (x, y, z).
+SDF_CONST uint kSubCellsPerAxis = 8;
+SDF_CONST uint kOccupancyWords = 16;  // 512 bits
 
 // One mesh's local SDF in the atlas (ObjectMeta::meshes).
 struct ObjectMeshGpu {
@@ -52,6 +57,7 @@ struct ObjectRegionGpu {
   uint start;   // first entry in OBJ_LIST
   uint moved;   // nonzero: an instance that moved this frame overlaps it (old or new pose)
   uint cursor;  // fill pass scratch
+  uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)
 };
 
 // Frame constants (ObjectMeta::frame, host-written each frame).
@@ -100,7 +106,7 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 80);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);

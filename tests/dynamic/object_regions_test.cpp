@@ -4,6 +4,7 @@
 // independent check that needs no shared code: points sampled inside each object's grid box
 // must find the object listed in the region that holds them.
 #include <algorithm>
+#include <bit>
 #include <random>
 #include <set>
 
@@ -51,15 +52,25 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   }
   for (std::uint32_t n : regionsPerInstance) spanning += n >= 27 ? 1 : 0;
   const auto regions = gpu.downloadRegions();
-  std::size_t movedDiffer = 0;
-  for (std::uint32_t r = 0; r < regions.size(); ++r)
+  std::size_t movedDiffer = 0, occupancyDiffer = 0, occupiedBits = 0;
+  for (std::uint32_t r = 0; r < regions.size(); ++r) {
     movedDiffer += (regions[r].moved != 0) != cpu.regionMoved(r) ? 1 : 0;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w) {
+      occupancyDiffer += regions[r].occupancy[w] != cpu.regions()[r].occupancy[w] ? 1 : 0;
+      occupiedBits += std::uint32_t(std::popcount(cpu.regions()[r].occupancy[w]));
+    }
+  }
   std::printf(
       "[figures] %zu instances, %zu regions listed, %zu entries, %zu objects spanning >= 27 "
-      "regions: %zu regions differ, %zu moved flags differ\n",
-      objects.instances.size(), nonEmpty, entries, spanning, differing, movedDiffer);
+      "regions: %zu regions differ, %zu moved flags differ, %zu of %zu occupancy words differ "
+      "(%.1f%% of listed regions' sub-cells occupied)\n",
+      objects.instances.size(), nonEmpty, entries, spanning, differing, movedDiffer,
+      occupancyDiffer, regions.size() * gs::kOccupancyWords,
+      100.0 * double(occupiedBits) / double(std::max<std::size_t>(1, nonEmpty * 512)));
   EXPECT_EQ(differing, 0u);
   EXPECT_EQ(movedDiffer, 0u);
+  EXPECT_EQ(occupancyDiffer, 0u);
+  EXPECT_GT(occupiedBits, 0u);
   EXPECT_GT(entries, 0u);
   return spanning;
 }
@@ -108,10 +119,11 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   ObjectScene gpu(ctx(), settings);
   gpu.update(objects.library, objects.instances, stack);
   const auto lists = gpuLists(gpu);
+  const auto regions = gpu.downloadRegions();
   const auto& frame = gpu.frame();
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::size_t checked = 0, missing = 0;
+  std::size_t checked = 0, missing = 0, unoccupied = 0;
   for (std::uint32_t i = 0; i < frame.instances.size(); ++i) {
     const auto& inst = frame.instances[i];
     const glm::vec3 hi = glm::vec3(objects.library.mesh(inst.info.x).dims - 1u);
@@ -127,16 +139,25 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
             glm::any(glm::greaterThan(q, glm::vec3(7.99f))))
           continue;
         const glm::ivec3 r(glm::floor(q));
-        const auto& list = lists[c * gs::kRegionsPerCascade + r.x + 8 * (r.y + 8 * r.z)];
+        const std::uint32_t g = c * gs::kRegionsPerCascade + r.x + 8 * (r.y + 8 * r.z);
+        const auto& list = lists[g];
         ++checked;
         if (!std::binary_search(list.begin(), list.end(), i)) ++missing;
+        // ... and lies in an occupied sub-cell of that region.
+        const glm::ivec3 sc = glm::clamp(glm::ivec3(glm::floor((q - glm::vec3(r)) * 8.0f)),
+                                         glm::ivec3(0), glm::ivec3(7));
+        const std::uint32_t bit = std::uint32_t(sc.x + 8 * sc.y + 64 * sc.z);
+        if (!(regions[g].occupancy[bit / 32] & (1u << (bit % 32)))) ++unoccupied;
       }
     }
   }
-  std::printf("[figures] %zu sampled points inside objects, %zu not listed in their region\n",
-              checked, missing);
+  std::printf(
+      "[figures] %zu sampled points inside objects, %zu not listed in their region, %zu in an "
+      "empty sub-cell\n",
+      checked, missing, unoccupied);
   EXPECT_GT(checked, 1000u);
   EXPECT_EQ(missing, 0u);
+  EXPECT_EQ(unoccupied, 0u);
 }
 
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
