@@ -49,19 +49,18 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
   // shortest column and the OBB's half axes are the columns times half the grid extent.
   const glm::dvec3 hi = glm::dvec3(mesh.dims) - 1.0;
   double stepScale = 1e30, radius2 = 0.0;
-  glm::dvec3 lo(1e300), up(-1e300);
+  glm::dvec3 lo, up;
   for (int j = 0; j < 3; ++j) {
     const double len = glm::length(glm::dvec3(stackFromGrid[j]));
     stepScale = std::min(stepScale, len);
     radius2 += (len * hi[j] * 0.5) * (len * hi[j] * 0.5);
   }
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::dvec3 gc((corner & 1) ? hi.x : 0.0, (corner & 2) ? hi.y : 0.0,
-                        (corner & 4) ? hi.z : 0.0);
-    const glm::dvec3 p = glm::dvec3(stackFromGrid * glm::dvec4(gc, 1.0));
-    lo = glm::min(lo, p);
-    up = glm::max(up, p);
-  }
+  // The AABB of the grid box [0, hi]: centre ± |M|·half (what its 8 corners' min and max are).
+  const glm::dvec3 centre(stackFromGrid * glm::dvec4(0.5 * hi, 1.0));
+  glm::dvec3 reach(0.0);
+  for (int j = 0; j < 3; ++j) reach += glm::abs(glm::dvec3(stackFromGrid[j])) * (0.5 * hi[j]);
+  lo = centre - reach;
+  up = centre + reach;
   g.boundsMin = glm::vec4(glm::vec3(lo), float(stepScale));
   g.boundsMax = glm::vec4(glm::vec3(up), float(std::sqrt(radius2)));
   g.info = glm::uvec4(meshIndex, 0u, 0u, 0u);
@@ -74,7 +73,8 @@ bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, g
                  glm::ivec3& lo, glm::ivec3& hi) {
   const glm::vec4 ro = f.regionOrigin[c];
   const glm::vec3 o(ro);
-  const glm::vec3 a = (bmin - o) / ro.w, b = (bmax - o) / ro.w;
+  const float inv = 1.0f / ro.w;  // region edges are powers of two: exact
+  const glm::vec3 a = (bmin - o) * inv, b = (bmax - o) * inv;
   if (b.x < 0 || b.y < 0 || b.z < 0 || a.x > 8 || a.y > 8 || a.z > 8) return false;
   lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
   hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(7));

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "gi/light_cache.h"
@@ -167,9 +168,10 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
       }
   }
   if (!any) return;
-  // Only resident pages can be relit, so only they are looked up.
+  // Only resident pages can be relit, so only they are looked up; slabs of pages in parallel
+  // (each page's mark is its own byte).
   const glm::vec3 pageHalf(0.5f * pages.edge);
-  for (int pz = 0; pz < kPagesPerAxis; ++pz)
+  tbb::parallel_for(0, kPagesPerAxis, [&](int pz) {
     for (int py = 0; py < kPagesPerAxis; ++py)
       for (int px = 0; px < kPagesPerAxis; ++px) {
         if (!pages.resident({px, py, pz})) continue;
@@ -184,6 +186,7 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
                 nearest[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)] <= f.farDepth;
         if (shadowed) pages.markPage({px, py, pz});
       }
+  });
 }
 
 // The part of the box's shadow between distances s0 and s1 from a point light: every corner
@@ -234,8 +237,12 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
   if (changed.empty() || stack.params.empty()) return pages;
   const float reach = 128.0f * stack.params.back().offsetScale.w * 1.7320508f;
   std::vector<Box> boxes(changed.size());
-  for (std::size_t i = 0; i < changed.size(); ++i)
-    boxes[i] = Box{stack.toStack(changed[i].min), stack.toStack(changed[i].max)};
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, changed.size(), 1024),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+          boxes[i] = Box{stack.toStack(changed[i].min), stack.toStack(changed[i].max)};
+      });
 
   const std::size_t cascades = stack.params.size();
   std::vector<std::uint8_t> marked(cascades * gs::kCascadePageCount, 0);
@@ -245,17 +252,14 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
     grids.push_back({glm::vec3(p.offsetScale), 8.0f * p.offsetScale.w, glm::uvec3(p.toroidal),
                      &marked[c * gs::kCascadePageCount], &stack.pageTables[p.toroidal.w]});
   }
-  // Each cascade's casters from the finer cascade's: a cell there is half a cell here, so the
-  // boxes thin out cascade by cascade instead of being gathered from all of them six times.
-  std::vector<std::vector<Box>> casters(cascades);
-  for (std::size_t c = 0; c < cascades; ++c)
-    casters[c] = markBoxesAndGatherCasters(
-        grids[c], c == 0 ? std::span<const Box>(boxes) : std::span<const Box>(casters[c - 1]));
+  // Cascades are independent; inside one, the shadow map's page lookups run in parallel too
+  // (cascade 0 holds most of the boxes, so splitting by cascade alone leaves cores idle).
   tbb::parallel_for(std::size_t(0), cascades, [&](std::size_t c) {
+    const std::vector<Box> casters = markBoxesAndGatherCasters(grids[c], boxes);
     for (const gs::GpuLight& l : lights) {
       if (l.shape.w <= 0.5f) continue;  // casts no shadow
       if (isSun(l)) {
-        markSunShadows(grids[c], casters[c], -glm::normalize(glm::vec3(l.direction)));
+        markSunShadows(grids[c], casters, -glm::normalize(glm::vec3(l.direction)));
       } else {
         markPointShadows(grids[c], boxes, glm::vec3(l.positionType), reach);
       }

@@ -39,16 +39,14 @@ glm::dmat4 ObjectTransform::matrix() const {
 }
 
 WorldBox worldBoundsOf(const ObjectSdf& sdf, const ObjectTransform& pose) {
+  // The AABB of a transformed box: its centre moved, plus |M| (the 3×3 part, absolute values)
+  // times its half extents -- the 8 corners' min and max without transforming 8 corners.
   const glm::dmat4 m = pose.matrix();
   const glm::dvec3 lo(sdf.gridMin), hi(sdf.gridMax());
-  WorldBox box{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
-  for (int c = 0; c < 8; ++c) {
-    const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-    const glm::dvec3 w(m * glm::dvec4(corner, 1.0));
-    box.min = glm::min(box.min, w);
-    box.max = glm::max(box.max, w);
-  }
-  return box;
+  const glm::dvec3 centre(m * glm::dvec4(0.5 * (lo + hi), 1.0)), half = 0.5 * (hi - lo);
+  glm::dvec3 reach(0.0);
+  for (int c = 0; c < 3; ++c) reach += glm::abs(glm::dvec3(m[c])) * half[c];
+  return WorldBox{centre - reach, centre + reach};
 }
 
 InstanceId InstanceSet::add(std::uint32_t mesh, const ObjectTransform& pose) {
