@@ -135,6 +135,7 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       m.motionMs = motionMs;
       m.sceneMs = s.host.sceneMs;
       m.objectsMs = s.host.objectsMs;
+      m.objectsBuildMs = s.host.objectsBuildMs;
       m.shadowPagesMs = s.host.shadowPagesMs;
       m.lightHostMs = s.host.lightMs;
       m.probesHostMs = s.host.probesMs;

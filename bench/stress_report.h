@@ -32,7 +32,7 @@ struct StressFrame {
   std::uint32_t objectRays = 0, objectHits = 0, objectSteps = 0;
   // Host CPU time: the scripted motion, then GiSystem's recording of the frame by part
   // (GiHostTimes: scene upload, objects, shadow pages, light cache, probe passes; total).
-  double motionMs = 0.0, sceneMs = 0.0, objectsMs = 0.0, shadowPagesMs = 0.0;
+  double motionMs = 0.0, sceneMs = 0.0, objectsMs = 0.0, objectsBuildMs = 0.0, shadowPagesMs = 0.0;
   double lightHostMs = 0.0, probesHostMs = 0.0, recordMs = 0.0;
   double wallMs = 0.0;  // motion + GiSystem::update, its submit and wait for the GPU included
 
@@ -59,7 +59,8 @@ struct RunSummary {
   double regionCountMs = 0, regionScanMs = 0, regionFillMs = 0, regionMs = 0;
   double regionUsPerInstance = 0;  // regionMs / objects, microseconds (0 without objects)
   double probeMs = 0, probeP99Ms = 0, traceMs = 0, lightMs = 0, costMs = 0, hostMs = 0;
-  double motionMs = 0, sceneMs = 0, objectsMs = 0, shadowPagesMs = 0, lightHostMs = 0;
+  double motionMs = 0, sceneMs = 0, objectsMs = 0, objectsBuildMs = 0, shadowPagesMs = 0;
+  double lightHostMs = 0;
   double probesHostMs = 0, wallMs = 0;
   double pagesRelit = 0, objectPagesRelit = 0, probesUpdated = 0, raysTraced = 0;
   double objectRays = 0, objectHits = 0, objectSteps = 0;

@@ -136,6 +136,7 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
     objects_.record(batch, staging_, *objectLibrary_, *instances_, image);
     stats.objectInstances = std::uint32_t(instances_->size());
     stats.host.objectsMs = millisecondsSince(t);
+    stats.host.objectsBuildMs = objects_.lastBuildMilliseconds();
     t = Clock::now();
     // Relight only where objects moved: the pages their old and new poses shadow.
     const std::vector<std::uint32_t> shadowed =

@@ -147,7 +147,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
 
   // Regions where something moved (old and new poses, removals included): the probes there wake.
-  out.changedBoxes = instances.changedBounds(library);
+  instances.changedBounds(library, out.changedBoxes);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, out.changedBoxes.size(), 256),
       [&](const tbb::blocked_range<std::size_t>& range) {

@@ -1,6 +1,9 @@
 #include "gi/object_scene.h"
 
+#include <chrono>
 #include <cstring>
+
+#include "core/stopwatch.h"
 
 #include "shaders/shared/sdf_layout.h"
 
@@ -72,7 +75,9 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                          const ObjectLibrary& library, const InstanceSet& instances,
                          const CascadeStackImage& stack) {
   if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
+  const auto buildStart = std::chrono::steady_clock::now();
   buildObjectFrame(library, instances, stack, settings_, frame_);
+  buildMilliseconds_ = millisecondsSince(buildStart);
   timings_.clear();
 
   const std::size_t metaBytes =
@@ -138,8 +143,8 @@ std::vector<std::uint32_t> ObjectScene::downloadLists() const {
 }
 
 std::size_t ObjectScene::deviceBytes() const {
-  return meta_.size() + instances_.size() + regions_.size() + lists_.size() +
-         distance_.size() + material_.size();
+  return meta_.size() + instances_.size() + regions_.size() + lists_.size() + distance_.size() +
+         material_.size();
 }
 
 }  // namespace sdfstream

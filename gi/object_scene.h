@@ -74,6 +74,8 @@ class ObjectScene {
   // GPU times of the last update's region passes (count, scan, fill); empty when inactive.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }
+  // CPU time of the last record's buildObjectFrame (the rest of record is uploads).
+  double lastBuildMilliseconds() const { return buildMilliseconds_; }
   std::size_t deviceBytes() const;
 
  private:
@@ -92,6 +94,7 @@ class ObjectScene {
   ObjectFrameData frame_;
   friend class GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_, traceTimings_;
+  double buildMilliseconds_ = 0.0;
 };
 
 }  // namespace sdfstream

@@ -133,24 +133,34 @@ std::vector<WorldBox> InstanceSet::changedBoxes(const ObjectLibrary& lib) const 
 }
 
 std::vector<WorldBox> InstanceSet::changedBounds(const ObjectLibrary& lib) const {
-  std::vector<WorldBox> boxes = changedBoxes(lib);
-  // changedBoxes lists a change's start pose (if any) right before its end pose (if any): merge
-  // each pair into one box.
-  std::vector<WorldBox> merged;
-  merged.reserve(changes_.size());
-  std::size_t k = 0;
-  for (const Change& c : changes_) {
-    const bool before = c.before.has_value(), now = contains(c.id);
-    if (!before && !now) continue;
-    WorldBox b = boxes[k++];
-    if (before && now) {
-      b.min = glm::min(b.min, boxes[k].min);
-      b.max = glm::max(b.max, boxes[k].max);
-      ++k;
-    }
-    merged.push_back(b);
-  }
-  return merged;
+  std::vector<WorldBox> out;
+  changedBounds(lib, out);
+  return out;
+}
+
+void InstanceSet::changedBounds(const ObjectLibrary& lib, std::vector<WorldBox>& out) const {
+  for (const Change& c : changes_) lib.mesh(c.mesh);  // an unknown mesh throws here, not in a task
+  // One slot per change, filled in parallel (an empty box where the instance existed at neither
+  // end), then compacted in place: no per-frame allocation once `out` has grown.
+  out.resize(changes_.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changes_.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Change& c = changes_[i];
+                        const ObjectSdf& sdf = lib.mesh(c.mesh);
+                        WorldBox b{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
+                        if (c.before) b = worldBoundsOf(sdf, *c.before);
+                        if (const Instance* now = find(c.id)) {
+                          const WorldBox n = worldBoundsOf(sdf, now->pose);
+                          b = WorldBox{glm::min(b.min, n.min), glm::max(b.max, n.max)};
+                        }
+                        out[i] = b;
+                      }
+                    });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (out[i].min.x <= out[i].max.x) out[kept++] = out[i];
+  out.resize(kept);
 }
 
 void InstanceSet::endFrame() {

@@ -75,6 +75,8 @@ class InstanceSet {
   // The same with each instance's start and end boxes merged into one (their AABB): half the
   // boxes, each covering the whole change, for consumers that only need to be conservative.
   std::vector<WorldBox> changedBounds(const ObjectLibrary& lib) const;
+  // The same into `out` (replaced; its capacity is reused from frame to frame).
+  void changedBounds(const ObjectLibrary& lib, std::vector<WorldBox>& out) const;
   // Clears movedThisFrame and the change record.
   void endFrame();
 

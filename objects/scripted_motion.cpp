@@ -92,19 +92,21 @@ ObjectTransform ScriptedMotion::poseAt(std::size_t binding, double t) const {
 
 void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
   // Poses in parallel (each a pure function of t), then the moves in order: InstanceSet is not
-  // thread-safe, and a move is a few stores next to a pose's trigonometry.
-  std::vector<std::optional<ObjectTransform>> poses(bindings_.size());
+  // thread-safe, and a move is a few stores next to a pose's trigonometry. The pose buffer is
+  // kept between calls (no per-frame allocation).
+  poses_.resize(bindings_.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bindings_.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const Instance* instance = set.find(bindings_[i].id);
+                        poses_[i].reset();
                         if (!instance) continue;
                         const ObjectTransform pose = poseAt(i, timeSeconds);
-                        if (pose != instance->pose) poses[i] = pose;
+                        if (pose != instance->pose) poses_[i] = pose;
                       }
                     });
   for (std::size_t i = 0; i < bindings_.size(); ++i)
-    if (poses[i]) set.move(bindings_[i].id, *poses[i]);
+    if (poses_[i]) set.move(bindings_[i].id, *poses_[i]);
 }
 
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <variant>
 #include <vector>
 
@@ -65,6 +66,7 @@ class ScriptedMotion {
   // Moves every bound instance still in the set to its pose at t, calling set.move only when
   // that pose differs from its current one (so a still mover does not flag its region as
   // changed). Instances removed from the set are skipped. No exceptions after a valid add.
+  // Not to be called concurrently on one ScriptedMotion (it reuses a scratch buffer).
   void apply(InstanceSet& set, double timeSeconds) const;
 
  private:
@@ -76,6 +78,7 @@ class ScriptedMotion {
     std::vector<double> pathLength;  // Path: length from points[0] to each point, then the loop
   };
   std::vector<Binding> bindings_;
+  mutable std::vector<std::optional<ObjectTransform>> poses_;  // apply's scratch, by binding
 };
 
 // Adds `count` instances spread uniformly over `area` (world box) and returns their motion, all
