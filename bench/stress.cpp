@@ -133,13 +133,7 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       m.objectHits = s.probes.objectHits;
       m.objectSteps = s.probes.objectSteps;
       m.motionMs = motionMs;
-      m.sceneMs = s.host.sceneMs;
-      m.objectsMs = s.host.objectsMs;
-      m.objectsBuildMs = s.host.objectsBuildMs;
-      m.shadowPagesMs = s.host.shadowPagesMs;
-      m.lightHostMs = s.host.lightMs;
-      m.probesHostMs = s.host.probesMs;
-      m.recordMs = s.host.totalMs;
+      m.host = s.host;
       m.wallMs = wallMs;
       run.frames.push_back(m);
 

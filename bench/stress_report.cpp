@@ -117,8 +117,8 @@ void writeFramesCsv(const fs::path& file, const std::vector<StressRun>& runs) {
           r.objects, modeName(r.mode), f.frame, f.regionCountMs, f.regionScanMs, f.regionFillMs,
           f.probeMs, f.traceMs, f.lightMs, f.pagesRelit, f.objectPagesRelit, f.probesUpdated,
           f.raysTraced, f.raysCached, f.objectRays, f.objectHits, f.objectSteps, f.hostMs(),
-          f.motionMs, f.sceneMs, f.objectsMs, f.shadowPagesMs, f.lightHostMs, f.probesHostMs,
-          f.wallMs);
+          f.motionMs, f.host.sceneMs, f.host.objectsMs, f.host.shadowPagesMs, f.host.lightMs,
+          f.host.probesMs, f.wallMs);
       csv += row;
     }
   writeText(file, csv);
@@ -320,9 +320,9 @@ std::string hostSection(const std::vector<StressRun>& runs) {
     const RunSummary s = summarize(r);
     md += "| " + (hasObjects(r.mode) ? withCommas(r.objects) : std::string("-")) + " | " +
           modeName(r.mode) + " | " + format("%.3f", s.hostMs) + " | " + format("%.3f", s.motionMs) +
-          " | " + format("%.3f", s.sceneMs) + " | " + format("%.3f", s.objectsMs) + " (" +
-          format("%.3f", s.objectsBuildMs) + ") | " + format("%.3f", s.shadowPagesMs) + " | " +
-          format("%.3f", s.lightHostMs) + " | " + format("%.3f", s.probesHostMs) + " | " +
+          " | " + format("%.3f", s.host.sceneMs) + " | " + format("%.3f", s.host.objectsMs) + " (" +
+          format("%.3f", s.host.objectsBuildMs) + ") | " + format("%.3f", s.host.shadowPagesMs) +
+          " | " + format("%.3f", s.host.lightMs) + " | " + format("%.3f", s.host.probesMs) + " | " +
           format("%.3f", s.wallMs) + " | " +
           (r.objects ? format("%.3f", 1000.0 * s.hostMs / r.objects) : std::string("-")) + " |\n";
     if (r.mode == Mode::Regions && r.objects > 0)
@@ -380,12 +380,14 @@ RunSummary summarize(const StressRun& run) {
   s.costMs = medianOf(run, [](const StressFrame& f) { return f.costMs(); });
   s.hostMs = medianOf(run, [](const StressFrame& f) { return f.hostMs(); });
   s.motionMs = medianOf(run, [](const StressFrame& f) { return f.motionMs; });
-  s.sceneMs = medianOf(run, [](const StressFrame& f) { return f.sceneMs; });
-  s.objectsMs = medianOf(run, [](const StressFrame& f) { return f.objectsMs; });
-  s.objectsBuildMs = medianOf(run, [](const StressFrame& f) { return f.objectsBuildMs; });
-  s.shadowPagesMs = medianOf(run, [](const StressFrame& f) { return f.shadowPagesMs; });
-  s.lightHostMs = medianOf(run, [](const StressFrame& f) { return f.lightHostMs; });
-  s.probesHostMs = medianOf(run, [](const StressFrame& f) { return f.probesHostMs; });
+  const auto hostPart = [&](double GiHostTimes::*part) {
+    return medianOf(run, [part](const StressFrame& f) { return f.host.*part; });
+  };
+  for (double GiHostTimes::*part :
+       {&GiHostTimes::sceneMs, &GiHostTimes::objectsMs, &GiHostTimes::objectsBuildMs,
+        &GiHostTimes::shadowPagesMs, &GiHostTimes::lightMs, &GiHostTimes::probesMs,
+        &GiHostTimes::totalMs})
+    s.host.*part = hostPart(part);
   s.wallMs = medianOf(run, [](const StressFrame& f) { return f.wallMs; });
   s.pagesRelit = medianOf(run, [](const StressFrame& f) { return f.pagesRelit; });
   s.objectPagesRelit = medianOf(run, [](const StressFrame& f) { return f.objectPagesRelit; });

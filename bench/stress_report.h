@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "gi/gi_host_times.h"
+
 namespace sdfstream::bench::stress {
 
 // How probe rays meet the moving objects in a run.
@@ -32,11 +34,11 @@ struct StressFrame {
   std::uint32_t objectRays = 0, objectHits = 0, objectSteps = 0;
   // Host CPU time: the scripted motion, then GiSystem's recording of the frame by part
   // (GiHostTimes: scene upload, objects, shadow pages, light cache, probe passes; total).
-  double motionMs = 0.0, sceneMs = 0.0, objectsMs = 0.0, objectsBuildMs = 0.0, shadowPagesMs = 0.0;
-  double lightHostMs = 0.0, probesHostMs = 0.0, recordMs = 0.0;
+  double motionMs = 0.0;
+  GiHostTimes host;
   double wallMs = 0.0;  // motion + GiSystem::update, its submit and wait for the GPU included
 
-  double hostMs() const { return motionMs + recordMs; }  // what the host spends, no waits
+  double hostMs() const { return motionMs + host.totalMs; }  // what the host spends, no waits
 
   double regionMs() const { return regionCountMs + regionScanMs + regionFillMs; }
   // What the objects and the probe update cost together: what the goal compares with static.
@@ -59,9 +61,8 @@ struct RunSummary {
   double regionCountMs = 0, regionScanMs = 0, regionFillMs = 0, regionMs = 0;
   double regionUsPerInstance = 0;  // regionMs / objects, microseconds (0 without objects)
   double probeMs = 0, probeP99Ms = 0, traceMs = 0, lightMs = 0, costMs = 0, hostMs = 0;
-  double motionMs = 0, sceneMs = 0, objectsMs = 0, objectsBuildMs = 0, shadowPagesMs = 0;
-  double lightHostMs = 0;
-  double probesHostMs = 0, wallMs = 0;
+  double motionMs = 0, wallMs = 0;
+  GiHostTimes host;  // each part's median
   double pagesRelit = 0, objectPagesRelit = 0, probesUpdated = 0, raysTraced = 0;
   double objectRays = 0, objectHits = 0, objectSteps = 0;
   std::uint64_t raysTracedTotal = 0, objectRaysTotal = 0, objectStepsTotal = 0;

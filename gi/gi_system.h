@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "gi/gi_host_times.h"
 #include "gi/gpu_stack_scene.h"
 #include "gi/light_cache.h"
 #include "gi/object_scene.h"
@@ -37,19 +38,6 @@ struct GiSettings {
   ObjectSceneSettings objects;
   // Frames record() may run ahead of the GPU; each owns its staging and readback memory.
   std::uint32_t framesInFlight = 2;
-};
-
-// CPU time (milliseconds) of a frame's host work inside record()/update(), by part: building
-// and writing into the staging ring what the GPU reads, and recording the passes. Waits for the
-// GPU are not included (update's submit and wait come after).
-struct GiHostTimes {
-  double sceneMs = 0.0;         // page tables and streamed bricks
-  double objectsMs = 0.0;       // instances into stack space, region state, their uploads
-  double objectsBuildMs = 0.0;  // ... of which building them (buildObjectFrame), not uploading
-  double shadowPagesMs = 0.0;   // the light-cache pages the objects' moves shadow
-  double lightMs = 0.0;         // dirty pages, lights, the light cache pass
-  double probesMs = 0.0;        // the probe passes
-  double totalMs = 0.0;         // all of the frame's recording
 };
 
 struct GiFrameStats {

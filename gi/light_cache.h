@@ -45,11 +45,13 @@ struct LightCacheSettings {
 std::vector<std::uint32_t> lightDirtyPages(const CascadeStackImage* previous,
                                            const CascadeStackImage& current, bool lightsChanged);
 
-// Resident pages of `stack` whose light a moving object may have changed (issue 7 item 6: the
-// light cache is re-lit only where objects moved): for each changed world box (old and new poses,
-// InstanceSet::changedBoxes), the box swept away from each shadow-casting light -- along the
-// sun's direction, or away from a point/spot light -- until it leaves the stack, as one AABB per
-// (box, light); every resident page it overlaps. Sorted, distinct; merge with lightDirtyPages.
+// Resident pages of `stack` whose light a moving object may have changed (the light cache is
+// re-lit only where objects moved): for the changed world boxes (InstanceSet::changedBounds or
+// changedBoxes: old and new poses), every resident page a box overlaps or its shadow from a
+// shadow-casting light may reach -- under a sun through a page-resolution shadow map per
+// cascade, from a point/spot light by sweeping the box away from it until it leaves the stack.
+// Conservative (never misses a page the shadow passes through). Sorted, distinct; merge with
+// lightDirtyPages.
 std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
                                              std::span<const WorldBox> changed,
                                              std::span<const gpu_shared::GpuLight> lights);
@@ -85,8 +87,9 @@ class LightCacheCpu {
   std::uint32_t pagesRelit_ = 0;
 };
 
-// The GPU light cache (light_cache.comp). Owns the light atlas and small device-local buffers (written through the staging ring) for the
-// page list and the lights. Thread safety: as for the Context.
+// The GPU light cache (light_cache.comp). Owns the light atlas and small device-local buffers
+// (written through the staging ring) for the page list and the lights. Thread safety: as for the
+// Context.
 class LightCache {
  public:
   // Throws std::runtime_error when a Vulkan allocation fails.

@@ -49,7 +49,6 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
   // shortest column and the OBB's half axes are the columns times half the grid extent.
   const glm::dvec3 hi = glm::dvec3(mesh.dims) - 1.0;
   double stepScale = 1e30, radius2 = 0.0;
-  glm::dvec3 lo, up;
   for (int j = 0; j < 3; ++j) {
     const double len = glm::length(glm::dvec3(stackFromGrid[j]));
     stepScale = std::min(stepScale, len);
@@ -59,10 +58,8 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
   const glm::dvec3 centre(stackFromGrid * glm::dvec4(0.5 * hi, 1.0));
   glm::dvec3 reach(0.0);
   for (int j = 0; j < 3; ++j) reach += glm::abs(glm::dvec3(stackFromGrid[j])) * (0.5 * hi[j]);
-  lo = centre - reach;
-  up = centre + reach;
-  g.boundsMin = glm::vec4(glm::vec3(lo), float(stepScale));
-  g.boundsMax = glm::vec4(glm::vec3(up), float(std::sqrt(radius2)));
+  g.boundsMin = glm::vec4(glm::vec3(centre - reach), float(stepScale));
+  g.boundsMax = glm::vec4(glm::vec3(centre + reach), float(std::sqrt(radius2)));
   g.info = glm::uvec4(meshIndex, 0u, 0u, 0u);
   return g;
 }

@@ -48,10 +48,6 @@ struct CascadePages {
   std::uint8_t* marked;            // kCascadePageCount entries
   const std::uint32_t* pageTable;  // the cascade's kCascadePageCount entries
 
-  Box pageBox(glm::ivec3 p) const {
-    const glm::vec3 lo = origin + glm::vec3(p) * edge;
-    return {lo, lo + glm::vec3(edge)};
-  }
   std::uint32_t entry(glm::ivec3 p) const {
     return ((std::uint32_t(p.x) + toroidal.x) & 15u) +
            16u * (((std::uint32_t(p.y) + toroidal.y) & 15u) +
@@ -105,8 +101,7 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
       out.push_back(b);
       continue;
     }
-    // A box ending exactly on a cell face stays in the cell below it (cells are closed), so a
-    // finer cascade's cell falls in exactly one cell here (cascade origins are whole pages).
+    // A box ending exactly on a cell face stays in the cell below it (cells are closed).
     const glm::ivec3 a(glm::floor(lo)), z = glm::max(a, glm::ivec3(glm::ceil(hi)) - 1);
     for (int cz = a.z; cz <= z.z; ++cz)
       for (int cy = a.y; cy <= z.y; ++cy)

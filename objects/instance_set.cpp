@@ -103,32 +103,13 @@ void InstanceSet::recordChange(const Instance& instance, bool existedBefore) {
 }
 
 std::vector<WorldBox> InstanceSet::changedBoxes(const ObjectLibrary& lib) const {
-  // Two candidate boxes per change (before, now), computed in parallel: thousands of instances
-  // move every frame in a stress scene. Then compacted in order of first change.
-  struct Pair {
-    WorldBox box[2];
-    bool has[2];
-  };
-  std::vector<Pair> pairs(changes_.size());
-  for (const Change& c : changes_) lib.mesh(c.mesh);  // an unknown mesh throws here, not in a task
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changes_.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const Change& c = changes_[i];
-                        const ObjectSdf& sdf = lib.mesh(c.mesh);
-                        Pair& p = pairs[i];
-                        p.has[0] = c.before.has_value();
-                        if (p.has[0]) p.box[0] = worldBoundsOf(sdf, *c.before);
-                        const Instance* now = find(c.id);
-                        p.has[1] = now != nullptr;
-                        if (now) p.box[1] = worldBoundsOf(sdf, now->pose);
-                      }
-                    });
   std::vector<WorldBox> boxes;
   boxes.reserve(changes_.size() * 2);
-  for (const Pair& p : pairs)
-    for (int k = 0; k < 2; ++k)
-      if (p.has[k]) boxes.push_back(p.box[k]);
+  for (const Change& c : changes_) {
+    const ObjectSdf& sdf = lib.mesh(c.mesh);
+    if (c.before) boxes.push_back(worldBoundsOf(sdf, *c.before));
+    if (const Instance* now = find(c.id)) boxes.push_back(worldBoundsOf(sdf, now->pose));
+  }
   return boxes;
 }
 

@@ -1,0 +1,20 @@
+// CPU time of a GI frame's host work, by part (GiFrameStats::host); its own header so harnesses
+// that report it need not include the GPU system.
+#pragma once
+
+namespace sdfstream {
+
+// Milliseconds inside GiSystem::record()/update(): building and writing into the staging ring
+// what the GPU reads, and recording the passes. Waits for the GPU are not included (update's
+// submit and wait come after).
+struct GiHostTimes {
+  double sceneMs = 0.0;         // page tables and streamed bricks
+  double objectsMs = 0.0;       // instances into stack space, region state, their uploads
+  double objectsBuildMs = 0.0;  // ... of which building them (buildObjectFrame), not uploading
+  double shadowPagesMs = 0.0;   // the light-cache pages the objects' moves shadow
+  double lightMs = 0.0;         // dirty pages, lights, the light cache pass
+  double probesMs = 0.0;        // the probe passes
+  double totalMs = 0.0;         // all of the frame's recording
+};
+
+}  // namespace sdfstream
