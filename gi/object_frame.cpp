@@ -1,7 +1,7 @@
 #include "gi/object_frame.h"
 
 #include <algorithm>
-#include <atomic>
+#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -77,6 +77,78 @@ bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, g
   hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(7));
   return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
 }
+
+// The box in which a change can wake a probe, in stack space: the changed box itself and the
+// cube of half-edge r / sqrt(wakeIrradianceChange) around its centre (r: its half-diagonal,
+// which bounds the radius of the object at both ends of the move).
+void wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtChange,
+             glm::vec3& lo, glm::vec3& hi) {
+  const glm::vec3 a = stack.toStack(box.min), b = stack.toStack(box.max);
+  const glm::vec3 centre = 0.5f * (a + b);
+  const float reach = 0.5f * glm::length(b - a) * invSqrtChange;
+  lo = glm::min(a, centre - reach);
+  hi = glm::max(b, centre + reach);
+}
+
+// Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
+// touches. Parallel over (cascade, slab of regions along z): each task owns its regions, so no
+// atomics; each reads the boxes' sub-cell ranges computed once, in parallel, beforehand.
+void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
+                      const CascadeStackImage& stack, const ObjectSceneSettings& settings,
+                      ObjectFrameData& out) {
+  using Range = ObjectFrameData::SubCellRange;
+  constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
+  const std::size_t boxes = out.changedBoxes.size();
+  if (boxes == 0 || cascades == 0) return;
+  const float invSqrtChange =
+      1.0f / std::sqrt(std::clamp(settings.wakeIrradianceChange, 1e-4f, 1.0f));
+  out.wakeRanges.resize(boxes * cascades);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes, 256),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                        glm::vec3 lo, hi;
+                        wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
+                        for (std::uint32_t c = 0; c < cascades; ++c) {
+                          const glm::vec4 ro = f.regionOrigin[c];
+                          const float inv = float(gs::kSubCellsPerAxis) / ro.w;  // exact
+                          const glm::vec3 a = (lo - glm::vec3(ro)) * inv;
+                          const glm::vec3 b = (hi - glm::vec3(ro)) * inv;
+                          Range& r = out.wakeRanges[k * cascades + c];
+                          r.lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
+                          r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubs - 1));
+                          if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
+                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubs)))))
+                            r.hi = glm::ivec3(-1);
+                        }
+                      }
+                    });
+  const int slabs = int(gs::kRegionsPerAxis);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, int(cascades) * slabs, 1),
+      [&](const tbb::blocked_range<int>& tasks) {
+        for (int task = tasks.begin(); task != tasks.end(); ++task) {
+          const std::uint32_t c = std::uint32_t(task / slabs);
+          const int zLo = (task % slabs) * int(gs::kSubCellsPerAxis);
+          const int zHi = zLo + int(gs::kSubCellsPerAxis) - 1;
+          gs::ObjectRegionGpu* regions = out.regions.data() + c * gs::kRegionsPerCascade;
+          for (std::size_t k = 0; k < boxes; ++k) {
+            const Range& r = out.wakeRanges[k * cascades + c];
+            if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) continue;
+            const int z0 = std::max(r.lo.z, zLo), z1 = std::min(r.hi.z, zHi);
+            for (int z = z0; z <= z1; ++z)
+              for (int y = r.lo.y; y <= r.hi.y; ++y)
+                for (int rx = r.lo.x / 8; rx <= r.hi.x / 8; ++rx) {
+                  const int x0 = std::max(r.lo.x - rx * 8, 0), x1 = std::min(r.hi.x - rx * 8, 7);
+                  const std::uint32_t row = ((2u << x1) - 1u) & ~((1u << x0) - 1u);
+                  gs::ObjectRegionGpu& region = regions[rx + 8 * (y / 8 + 8 * (z / 8))];
+                  const int sy = y % 8, sz = z % 8;
+                  region.wake[sy / 4 + 2 * sz] |= row << (8 * (sy % 4));
+                  region.moved = 1u;
+                }
+          }
+        }
+      });
+}
 }  // namespace
 
 void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
@@ -143,28 +215,17 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   f.boundsMin = glm::vec4(totals.lo, 0.0f);
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
 
-  // Regions where something moved (old and new poses, removals included): the probes there wake.
+  // Where probes wake: sub-cells near something that moved, appeared or vanished (old and new
+  // poses as one box each), within the distance at which it can still change a probe's
+  // irradiance by wakeIrradianceChange (ObjectSceneSettings).
   instances.changedBounds(library, out.changedBoxes);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, out.changedBoxes.size(), 256),
-      [&](const tbb::blocked_range<std::size_t>& range) {
-        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-          const WorldBox& box = out.changedBoxes[k];
-          const glm::vec3 bmin = stack.toStack(box.min), bmax = stack.toStack(box.max);
-          for (std::uint32_t c = 0; c < cascades; ++c) {
-            glm::ivec3 lo, hi;
-            if (!regionRange(f, c, bmin, bmax, lo, hi)) continue;
-            for (int z = lo.z; z <= hi.z; ++z)
-              for (int y = lo.y; y <= hi.y; ++y)
-                for (int x = lo.x; x <= hi.x; ++x)
-                  std::atomic_ref<std::uint32_t>(
-                      out.regions[c * gs::kRegionsPerCascade + x + 8 * (y + 8 * z)].moved)
-                      .store(1u, std::memory_order_relaxed);
-          }
-        }
-      });
+  markWakeSubCells(f, cascades, stack, settings, out);
   out.movedRegions = 0;
-  for (const gs::ObjectRegionGpu& r : out.regions) out.movedRegions += r.moved != 0 ? 1u : 0u;
+  out.wakeSubCells = 0;
+  for (const gs::ObjectRegionGpu& r : out.regions) {
+    out.movedRegions += r.moved != 0 ? 1u : 0u;
+    for (std::uint32_t w : r.wake) out.wakeSubCells += std::uint32_t(std::popcount(w));
+  }
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   f.counts.z = out.listCapacity;

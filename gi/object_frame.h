@@ -23,6 +23,13 @@ struct ObjectSceneSettings {
   float sizeRule = 0.5f;
   float hitEpsilon = 0.05f;     // grid voxels: a sample below this is a hit
   std::uint32_t maxSteps = 96;  // sphere-tracing steps per instance segment
+  // A move wakes the probes whose irradiance it can change by at least this fraction (M21
+  // Sec. 5, vigilant probes near dynamic changes). An object of bounding radius r seen from a
+  // probe at distance d covers at most (r/d)^2 of its cosine-weighted hemisphere, so only probes
+  // within r / sqrt(wakeIrradianceChange) of the changed box's centre, or inside the box, wake.
+  // The default is the probe field's sleep threshold: a change below it would not keep a probe
+  // awake either. 1 wakes only probes inside the changed boxes; clamped to [1e-4, 1].
+  float wakeIrradianceChange = 0.05f;
   // Probe rays test every instance instead of walking the regions: the naive peer of the stress
   // benchmark (the regions are still built, so their cost is measured either way).
   bool naiveTraversal = false;
@@ -39,15 +46,22 @@ ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library);
 struct ObjectFrameData {
   gpu_shared::ObjectFrameGpu frame{};
   std::vector<gpu_shared::ObjectInstanceGpu> instances;  // dense, InstanceSet order
-  std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor 0; moved from the
-                                                         // changed boxes (old and new poses)
+  std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor/occupancy 0;
+                                                         // wake and moved from changedBoxes
   std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
   std::uint32_t movedInstances = 0;
-  std::uint32_t movedRegions = 0;  // regions flagged moved (removals included)
+  std::uint32_t movedRegions = 0;  // regions with a wake bit (removals included)
+  std::uint32_t wakeSubCells = 0;  // wake bits set, all region cascades
   // InstanceSet::changedBounds of the frame (world space; each changed instance's start and end
-  // boxes as one): the light cache relights the pages they shadow.
+  // boxes as one): the light cache relights the pages they shadow, and probes near them wake.
   std::vector<WorldBox> changedBoxes;
+  // Scratch: per changed box and region cascade, its wake sub-cell range (cascade sub-cell
+  // coordinates 0..63, lo.x > hi.x when it misses the cascade). Kept to reuse its capacity.
+  struct SubCellRange {
+    glm::ivec3 lo, hi;
+  };
+  std::vector<SubCellRange> wakeRanges;
 };
 
 // The instance as the GPU sees it: grid <-> stack maps, stack AABB, step scale, radius.

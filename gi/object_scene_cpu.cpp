@@ -65,7 +65,6 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
   const std::uint32_t cascades = frame_.frame.counts.y;
   const std::size_t regionCount = std::size_t(cascades) * gs::kRegionsPerCascade;
   lists_.assign(regionCount, {});
-  moved_.assign(regionCount, 0);
   regions_.assign(regionCount, gs::ObjectRegionGpu{});
   ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
   for (std::uint32_t c = 0; c < cascades; ++c) {
@@ -73,7 +72,9 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
     for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) {
       const glm::vec3 lo = glm::vec3(ro) + glm::vec3(r % 8, (r / 8) % 8, r / 64) * ro.w;
       const std::uint32_t g = c * gs::kRegionsPerCascade + r;
-      moved_[g] = frame_.regions[g].moved != 0;
+      std::copy(std::begin(frame_.regions[g].wake), std::end(frame_.regions[g].wake),
+                std::begin(regions_[g].wake));
+      regions_[g].moved = frame_.regions[g].moved;
       for (std::uint32_t i = 0; i < frame_.instances.size(); ++i) {
         const gs::ObjectInstanceGpu& inst = frame_.instances[i];
         const float voxel = ro.w / 16.0f;
@@ -81,7 +82,6 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
         const glm::uvec4 d = atlas_.meshes[inst.info.x].dimsOffset;
         if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, lo + glm::vec3(ro.w))) continue;
         lists_[g].push_back(i);
-        if (inst.info.y & gs::kObjectFlagMoved) moved_[g] = 1;
         const auto sub =
             p.objSubCellRange(glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
         for (int z = sub.lo.z; z <= sub.hi.z; ++z)
@@ -96,7 +96,10 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
   }
 }
 
-bool ObjectSceneCpu::regionMoved(std::uint32_t region) const { return moved_.at(region) != 0; }
+bool ObjectSceneCpu::wakes(glm::vec3 stackPoint, std::uint32_t cascade) const {
+  ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
+  return p.objMovedNear(stackPoint, cascade);
+}
 
 gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray) const {
   ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);

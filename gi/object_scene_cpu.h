@@ -20,9 +20,11 @@ class ObjectSceneCpu {
   // Per region (cascade * 512 + region): the sorted instance indices whose OBB overlaps it
   // (size rule applied).
   const std::vector<std::vector<std::uint32_t>>& regionInstances() const { return lists_; }
-  // Regions a moved instance (this frame) overlaps, or the host marked from changed boxes.
-  bool regionMoved(std::uint32_t region) const;
-  // Per region: the occupancy bitfield (object_layout.h) of its listed instances' AABBs.
+  // objMovedNear of shaders/object_trace.glsl: whether a probe at stack point p of cascade c
+  // wakes (the host's wake bits, copied from frame()).
+  bool wakes(glm::vec3 stackPoint, std::uint32_t cascade) const;
+  // Per region: the occupancy bitfield (object_layout.h) of its listed instances' AABBs, and
+  // the frame's wake bits.
   const std::vector<gpu_shared::ObjectRegionGpu>& regions() const { return regions_; }
 
   // objTraceRegions / objTraceAll of shaders/object_trace.glsl, as C++.
@@ -37,7 +39,6 @@ class ObjectSceneCpu {
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start into flat_
   std::vector<std::uint32_t> flat_;
-  std::vector<std::uint8_t> moved_;
 };
 
 }  // namespace sdfstream

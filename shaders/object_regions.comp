@@ -5,9 +5,9 @@
 // presence). Compact lists instead of the slides' bitfields, so a ray pays for the objects in a
 // region, not for N/32 words of it (docs/DECISIONS.md). Three phases, one dispatch each:
 //   0 count: workgroup (instance, cascade); its 64 threads stride over the regions of the
-//            instance's AABB range and atomically count those its OBB overlaps, mark regions
-//            that a moved instance overlaps, and OR the sub-cells its AABB touches into the
-//            region's occupancy bitfield;
+//            instance's AABB range and atomically count those its OBB overlaps and OR the
+//            sub-cells its AABB touches into the region's occupancy bitfield (the wake bits,
+//            which need the instances' old poses too, come from the host);
 //   1 scan:  one workgroup turns counts into list starts (exclusive prefix sum), clamped to the
 //            list capacity the host sized from the same AABB ranges;
 //   2 fill:  as 0, appending the instance index at start + atomicAdd(cursor).
@@ -80,7 +80,6 @@ void main() {
     uint region = c * kRegionsPerCascade + uint(r.x + 8 * (r.y + 8 * r.z));
     if (pc.phase == 0u) {
       atomicAdd(objRegions[region].count, 1u);
-      if ((inst.info.y & kObjectFlagMoved) != 0u) objRegions[region].moved = 1u;
       ObjSubRange sr =
           objSubCellRange(vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
                           vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);

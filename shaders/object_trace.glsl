@@ -406,22 +406,23 @@ bool objInsideAny(vec3 p, uint firstCascade) {
   return false;
 }
 
-// Whether an instance that moved this frame overlaps the region holding p or one of its 26
-// neighbours (cascade c's region grid, or the coarsest one for coarser probes): the probe there
-// must wake up (Majercik 2021 Sec. 5: probes near dynamic changes become vigilant).
+// Whether stack point p lies in a sub-cell within wake distance of an instance that moved,
+// appeared or vanished this frame (ObjectRegionGpu::wake, built by the host from each change's
+// size: ObjectSceneSettings::wakeIrradianceChange), in cascade c's region grid or the coarsest
+// one for coarser probes: the probe there must wake up (Majercik 2021 Sec. 5: probes near
+// dynamic changes become vigilant). One bit read.
 bool objMovedNear(vec3 p, uint c) {
-  uint cascades = OBJ_FRAME.counts.y;  // removals leave moved regions but no instance
+  uint cascades = OBJ_FRAME.counts.y;  // removals leave wake bits but no instance
   if (cascades == 0u) return false;
   uint k = min(c, cascades - 1u);
   vec4 ro = OBJ_FRAME.regionOrigin[k];
-  ivec3 r = ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w));
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        ivec3 q = r + ivec3(dx, dy, dz);
-        if (q.x < 0 || q.y < 0 || q.z < 0 || q.x > 7 || q.y > 7 || q.z > 7) continue;
-        if (OBJ_REGION(k * 512u + uint(q.x) + 8u * (uint(q.y) + 8u * uint(q.z))).moved != 0u)
-          return true;
-      }
-  return false;
+  vec3 s = floor((p - vec3(ro.x, ro.y, ro.z)) * (float(kSubCellsPerAxis) / ro.w));
+  if (s.x < 0.0f || s.y < 0.0f || s.z < 0.0f || s.x > 63.0f || s.y > 63.0f || s.z > 63.0f)
+    return false;
+  ivec3 q = ivec3(s);
+  ivec3 r = q / 8;
+  ivec3 sub = q - 8 * r;
+  uint word = OBJ_REGION(k * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)))
+                  .wake[objOccupancyWord(sub.y, sub.z)];
+  return ((word >> (objOccupancyShift(sub.y) + uint(sub.x))) & 1u) != 0u;
 }

@@ -55,9 +55,12 @@ SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) t
 struct ObjectRegionGpu {
   uint count;   // instances listed
   uint start;   // first entry in OBJ_LIST
-  uint moved;   // nonzero: an instance that moved this frame overlaps it (old or new pose)
+  uint moved;   // nonzero: some wake bit below is set
   uint cursor;  // fill pass scratch
   uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)
+  // Sub-cells (same bits) within wake distance of an instance that moved, appeared or vanished
+  // this frame (old and new poses; host-built, gi/object_frame.h): a probe there turns vigilant.
+  uint wake[kOccupancyWords];
 };
 
 // Frame constants (ObjectMeta::frame, host-written each frame).
@@ -106,7 +109,7 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 80);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 144);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);

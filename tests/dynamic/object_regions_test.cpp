@@ -54,15 +54,18 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   const auto regions = gpu.downloadRegions();
   std::size_t movedDiffer = 0, occupancyDiffer = 0, occupiedBits = 0;
   for (std::uint32_t r = 0; r < regions.size(); ++r) {
-    movedDiffer += (regions[r].moved != 0) != cpu.regionMoved(r) ? 1 : 0;
+    // The GPU passes keep the host's wake bits as uploaded.
+    movedDiffer += regions[r].moved != cpu.regions()[r].moved ? 1 : 0;
     for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w) {
+      movedDiffer += regions[r].wake[w] != cpu.regions()[r].wake[w] ? 1 : 0;
       occupancyDiffer += regions[r].occupancy[w] != cpu.regions()[r].occupancy[w] ? 1 : 0;
       occupiedBits += std::uint32_t(std::popcount(cpu.regions()[r].occupancy[w]));
     }
   }
   std::printf(
       "[figures] %zu instances, %zu regions listed, %zu entries, %zu objects spanning >= 27 "
-      "regions: %zu regions differ, %zu moved flags differ, %zu of %zu occupancy words differ "
+      "regions: %zu regions differ, %zu moved flags or wake words differ, %zu of %zu occupancy "
+      "words differ "
       "(%.1f%% of listed regions' sub-cells occupied)\n",
       objects.instances.size(), nonEmpty, entries, spanning, differing, movedDiffer,
       occupancyDiffer, regions.size() * gs::kOccupancyWords,
@@ -158,6 +161,122 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   EXPECT_GT(checked, 1000u);
   EXPECT_EQ(missing, 0u);
   EXPECT_EQ(unoccupied, 0u);
+}
+
+// The wake bits against a brute-force computation (every sub-cell of every region cascade
+// against every change's wake box, written out here from the rule in ObjectSceneSettings), on
+// a frame with additions, moves and removals; and the rule itself: every point within
+// r / sqrt(wakeIrradianceChange) of a changed box's centre wakes, and points far from every
+// change do not.
+TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
+  const CascadeStackImage stack = test::windowsOnlyStack(4);
+  // Small objects (0.1-0.6 m, voxel 0.25 m) spread over 40 m: their wake boxes leave most of
+  // the cascades asleep. This frame a third move (a few far), some are removed, some added.
+  test::RandomObjects objects;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const glm::dvec3 centre = stack.cascade0MinWorld + glm::dvec3(64.0 * stack.voxelSize0);
+  auto randomPose = [&] {
+    ObjectTransform pose;
+    pose.translation = centre + 20.0 * glm::dvec3(u(rng), u(rng), u(rng));
+    pose.rotation = glm::angleAxis(float(u(rng)) * 3.14159f, glm::normalize(glm::vec3(1, 2, 3)));
+    pose.scale = glm::vec3(float(0.35 + 0.25 * u(rng)));
+    return pose;
+  };
+  std::vector<InstanceId> ids;
+  for (int k = 0; k < 90; ++k)
+    ids.push_back(objects.instances.add(k % 2 ? objects.box : objects.sphere, randomPose()));
+  objects.instances.endFrame();
+  for (std::size_t k = 0; k < ids.size(); k += 3) {
+    ObjectTransform pose = objects.instances.find(ids[k])->pose;
+    pose.translation += (k % 7 ? 0.1 : 3.0) * glm::dvec3(u(rng), u(rng), u(rng));
+    objects.instances.move(ids[k], pose);
+  }
+  for (std::size_t k = 1; k < ids.size(); k += 11) objects.instances.remove(ids[k]);
+  for (int k = 0; k < 4; ++k) objects.instances.add(objects.box, randomPose());
+
+  ObjectSceneSettings settings;
+  settings.wakeIrradianceChange = 0.05f;
+  ObjectScene gpu(ctx(), settings);
+  gpu.update(objects.library, objects.instances, stack);
+  ObjectSceneCpu cpu(objects.library, objects.instances, stack, settings);
+  const auto regions = gpu.downloadRegions();
+  const auto& frame = cpu.frame();
+  const std::vector<WorldBox> changed = objects.instances.changedBounds(objects.library);
+  ASSERT_GT(changed.size(), 30u);
+
+  struct Sphere {
+    glm::vec3 centre;
+    float radius;
+  };
+  std::vector<glm::vec3> lo, hi;
+  std::vector<Sphere> mustWake;
+  for (const WorldBox& b : changed) {
+    const glm::vec3 a = stack.toStack(b.min), z = stack.toStack(b.max);
+    const glm::vec3 centre = 0.5f * (a + z);
+    const float reach = 0.5f * glm::length(z - a) / std::sqrt(settings.wakeIrradianceChange);
+    lo.push_back(glm::min(a, centre - reach));
+    hi.push_back(glm::max(z, centre + reach));
+    mustWake.push_back({centre, reach});
+  }
+  std::size_t differ = 0, set = 0;
+  for (std::uint32_t c = 0; c < frame.frame.counts.y; ++c) {
+    const glm::vec4 ro = frame.frame.regionOrigin[c];
+    const float sub = ro.w / 8.0f;
+    for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r)
+      for (std::uint32_t bit = 0; bit < 512; ++bit) {
+        const glm::vec3 cell(r % 8 * 8 + bit % 8, (r / 8) % 8 * 8 + (bit / 8) % 8,
+                             r / 64 * 8 + bit / 64);
+        const glm::vec3 cLo = glm::vec3(ro) + cell * sub, cHi = cLo + sub;
+        bool want = false;
+        for (std::size_t k = 0; k < lo.size() && !want; ++k)
+          want = glm::all(glm::lessThanEqual(cLo, hi[k])) && glm::all(glm::lessThan(lo[k], cHi));
+        const std::uint32_t y = bit / 8 % 8, zz = bit / 64;
+        const bool got = (regions[c * gs::kRegionsPerCascade + r].wake[y / 4 + 2 * zz] >>
+                          (8 * (y % 4) + bit % 8)) &
+                         1u;
+        differ += want != got ? 1 : 0;
+        set += got ? 1 : 0;
+      }
+  }
+  // The rule: points within each change's wake distance wake in every cascade that holds them;
+  // points far from every change wake nowhere.
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::size_t inside = 0, missed = 0, far = 0, falseWakes = 0;
+  for (const Sphere& s : mustWake)
+    for (int k = 0; k < 16; ++k) {
+      glm::vec3 d(unit(rng), unit(rng), unit(rng));
+      const glm::vec3 p = s.centre + d * (s.radius / 1.8f);  // |d| <= sqrt(3) < 1.8
+      for (std::uint32_t c = 0; c < frame.frame.counts.y; ++c) {
+        const glm::vec4 ro = frame.frame.regionOrigin[c];
+        const glm::vec3 q = (p - glm::vec3(ro)) / ro.w;
+        if (glm::any(glm::lessThan(q, glm::vec3(0.0f))) ||
+            glm::any(glm::greaterThanEqual(q, glm::vec3(8.0f))))
+          continue;
+        ++inside;
+        missed += cpu.wakes(p, c) ? 0 : 1;
+      }
+    }
+  for (int k = 0; k < 4000; ++k) {
+    const glm::vec3 p = glm::vec3(64.0f) + 64.0f * glm::vec3(unit(rng), unit(rng), unit(rng));
+    bool nearAny = false;
+    for (std::size_t j = 0; j < lo.size() && !nearAny; ++j)
+      nearAny =
+          glm::all(glm::greaterThan(p, lo[j] - 4.0f)) && glm::all(glm::lessThan(p, hi[j] + 4.0f));
+    if (nearAny) continue;
+    ++far;
+    falseWakes += cpu.wakes(p, 0) ? 1 : 0;
+  }
+  std::printf(
+      "[figures] %zu changes: %zu wake sub-cells set, %zu differ from brute force; %zu points "
+      "within wake distance, %zu not woken; %zu points far from every change, %zu woken\n",
+      changed.size(), set, differ, inside, missed, far, falseWakes);
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(set, 0u);
+  EXPECT_GT(inside, 1000u);
+  EXPECT_EQ(missed, 0u);
+  EXPECT_GT(far, 100u);
+  EXPECT_EQ(falseWakes, 0u);
 }
 
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
