@@ -1,6 +1,7 @@
 #include "gi/object_frame.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 
@@ -99,6 +100,8 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
   using Range = ObjectFrameData::SubCellRange;
   constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
   const std::size_t boxes = out.changedBoxes.size();
+  out.movedRegions = 0;
+  out.wakeSubCells = 0;
   if (boxes == 0 || cascades == 0) return;
   const float invSqrtChange =
       1.0f / std::sqrt(std::clamp(settings.wakeIrradianceChange, 1e-4f, 1.0f));
@@ -123,6 +126,7 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       }
                     });
   const int slabs = int(gs::kRegionsPerAxis);
+  std::atomic<std::uint32_t> movedRegions{0}, wakeSubCells{0};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, int(cascades) * slabs, 1),
       [&](const tbb::blocked_range<int>& tasks) {
@@ -146,8 +150,19 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                   region.moved = 1u;
                 }
           }
+          // The task's own regions (slab z of cascade c), now final: count them for the stats.
+          std::uint32_t moved = 0, bits = 0;
+          for (int r = zLo / 8 * 64; r < zLo / 8 * 64 + 64; ++r) {
+            if (regions[r].moved == 0) continue;
+            moved += 1;
+            for (std::uint32_t w : regions[r].wake) bits += std::uint32_t(std::popcount(w));
+          }
+          movedRegions += moved;
+          wakeSubCells += bits;
         }
       });
+  out.movedRegions = movedRegions;
+  out.wakeSubCells = wakeSubCells;
 }
 }  // namespace
 
@@ -220,12 +235,6 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   // irradiance by wakeIrradianceChange (ObjectSceneSettings).
   instances.changedBounds(library, out.changedBoxes);
   markWakeSubCells(f, cascades, stack, settings, out);
-  out.movedRegions = 0;
-  out.wakeSubCells = 0;
-  for (const gs::ObjectRegionGpu& r : out.regions) {
-    out.movedRegions += r.moved != 0 ? 1u : 0u;
-    for (std::uint32_t w : r.wake) out.wakeSubCells += std::uint32_t(std::popcount(w));
-  }
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   f.counts.z = out.listCapacity;
