@@ -71,6 +71,15 @@ void computeReference(const BenchScene& scene, const reference::PathTracer& trac
   std::vector<glm::vec3> second;
   for (const auto& x : est2) second.push_back(x.mean);
   rep.floorRelMSE = reference::relMSE(second, points.reference);
+  if (opt.diagnose) {
+    reference::PathTracerSettings oneBounce;
+    oneBounce.maxDepth = 1;
+    reference::PathTracer tracer1(*scene.triangles, scene.lights, oneBounce);
+    for (const auto& x :
+         reference::cachedIrradiance(opt.out / "reference", tracer1, points.position, points.normal,
+                                     opt.samples, reference::IrradianceKind::NoDirectLights))
+      points.referenceOneBounce.push_back(x.mean);
+  }
   for (std::size_t k = 0; k < points.views(); ++k) {
     const auto img = shadedImage(points, k, points.reference);
     double sum = 0.0;
@@ -131,6 +140,39 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
   }
 }
 
+// --diagnose: the default without its multi-bounce feedback (probe-ray hits shaded with their
+// direct light and emission only) against the reference capped at one surface hit -- the same
+// transport -- and what the bounces beyond add in both.
+void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<glm::vec3>& eFull,
+                     SceneReport& rep) {
+  GiConfig one = def;
+  one.name = "default-one-bounce";
+  one.probes.bounceGain = 0.0f;
+  one.converge = false;
+  std::vector<glm::vec3> e1;
+  runConfig(sc, one, &e1, nullptr);
+  const ViewPoints& p = sc.points;
+  double gi1 = 0, giAll = 0, ref1 = 0, refAll = 0;
+  for (std::size_t i = 0; i < e1.size(); ++i) {
+    gi1 += luminance(e1[i]);
+    giAll += luminance(eFull[i]);
+    ref1 += luminance(p.referenceOneBounce[i]);
+    refAll += luminance(p.reference[i]);
+  }
+  char s[640];
+  std::snprintf(
+      s, sizeof s,
+      "\nBounces (mean luminance over the points): one bounce -- sky and emission seen, plus "
+      "the direct light at the first hit -- GI %.4g vs reference %.4g (ratio %.3f, relMSE "
+      "%.4f); the bounces beyond it GI %.4g vs reference %.4g (ratio %.3f); everything GI %.4g "
+      "vs %.4g (ratio %.3f).\n",
+      gi1, ref1, ref1 > 0 ? gi1 / ref1 : 0.0, reference::relMSE(e1, p.referenceOneBounce),
+      giAll - gi1, refAll - ref1, refAll - ref1 > 0 ? (giAll - gi1) / (refAll - ref1) : 0.0, giAll,
+      refAll, refAll > 0 ? giAll / refAll : 0.0);
+  std::printf("    diagnose:%s", s + 1);
+  rep.diagnosis += s;
+}
+
 // Every configuration in turn; the default and plain DDGI also get images per view.
 void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::path& sceneDir,
                 SceneReport& rep) {
@@ -150,6 +192,8 @@ void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::pa
         writeToneMappedPng(sceneDir / (points.names[k] + "-" + c.name + ".png"),
                            shadedImage(points, k, e), points.width, points.height,
                            points.exposure[k]);
+    if (isDefault && sc.opt.diagnose && !points.referenceOneBounce.empty())
+      diagnoseBounces(sc, c, e, rep);
     rep.configs.push_back(std::move(r));
   }
 }

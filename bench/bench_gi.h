@@ -26,6 +26,9 @@ struct GiBenchOptions {
   // per-pass time table of scripts/bench-gpu (it wins where both are set). Neither: everything.
   bool quick = false, gpuTable = false;
   bool peers = true, verbose = false;
+  // diagnose: also where the light goes (bench/bench_gi_diagnose.h) -- the default's probe rays
+  // against Embree by cascade, and the one-bounce transport against a one-bounce reference.
+  bool diagnose = false;
   std::vector<std::string> only;  // run just these configurations (empty: all)
   std::filesystem::path out = "out/bench-gi", data = "../shared/data",
                         largeWorld = "out/worlds/large-4km";

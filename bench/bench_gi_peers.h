@@ -33,6 +33,7 @@ struct PeerRays {
   std::vector<gpu_shared::TraceRay> stack;   // origin/dir in cascade-0 voxels, tMin 0, tMax
   std::vector<glm::vec3> origin, direction;  // world metres, unit direction
   std::vector<float> tMax;                   // world metres (same bound as stack's tMax)
+  std::vector<std::uint32_t> cascade;        // the probe's cascade (its rays start there)
 };
 
 struct PeerResult {

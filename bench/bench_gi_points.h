@@ -29,6 +29,8 @@ struct ViewPoints {
   std::vector<int> pixel;                           // index in its view's image
   std::vector<std::size_t> start;                   // first point of each view; + end
   std::vector<glm::vec3> reference;                 // E_ref (NoDirectLights); empty: none
+  std::vector<glm::vec3> referenceOneBounce;        // the same, paths capped at one surface hit
+                                                    // after the point (--diagnose only)
   std::vector<float> exposure;                      // per view, for the tone map
   std::size_t views() const { return start.size() - 1; }
 };

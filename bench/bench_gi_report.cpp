@@ -341,6 +341,8 @@ void writeScene(std::ostringstream& md, const SceneReport& s, const fs::path& ou
   writeConfigTable(md, s);
   writeAblations(md, s);
   if (!s.peers.empty()) writePeers(md, s, run);
+  if (!s.diagnosis.empty())
+    md << "### Where the light goes (--diagnose)\n\n" << s.diagnosis << "\n";
   if (!s.configs.empty()) {
     const fs::path plot = outDir / s.name / "error-vs-time.png";
     fs::create_directories(plot.parent_path());

@@ -61,6 +61,7 @@ struct SceneReport {
   std::vector<PeerResult> peers;
   std::size_t peerRays = 0;
   std::string peerRaySet;
+  std::string diagnosis;  // markdown (--diagnose): bench/bench_gi_diagnose.h
   double seconds = 0.0;
 };
 

@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 
+#include "bench/bench_gi_diagnose.h"
 #include "core/stats.h"
 #include "core/stopwatch.h"
 #include "demo/frame_image.h"
@@ -66,6 +67,7 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
         r.origin.push_back(glm::vec3(img.cascade0MinWorld + glm::dvec3(o) * img.voxelSize0));
         r.direction.push_back(dir);
         r.tMax.push_back(float(double(tExit) * img.voxelSize0));
+        r.cascade.push_back(std::uint32_t(c));
       }
     }
   }
@@ -216,6 +218,30 @@ class ConfigRun {
                       " rays each, that frame's rotation), bounded by the coarsest cascade";
   }
 
+  // --diagnose: this frame's probe rays against Embree, by the cascade they end in.
+  void diagnoseRays(SceneReport& into) {
+    const CascadeStackImage img = st_.stack->stackImage();
+    const PeerRays rays = probeRaySet(gi_, img, cfg_.probes, in_, frame_);
+    EmbreeScene embree(*sc_.scene.triangles);
+    PeerInputs pi;
+    pi.context = &sc_.ctx;
+    pi.stack = st_.stack.get();
+    pi.allSlots = st_.allSlots;
+    pi.embree = &embree;
+    pi.voxelSize = sc_.scene.voxelSize;
+    pi.maxSteps = cfg_.probes.maxSteps;
+    pi.hitEpsilon = cfg_.probes.hitEpsilon;
+    const ProbeRayDiagnosis d = diagnoseProbeRays(pi, rays);
+    std::printf(
+        "    diagnose: %zu probe rays; closed %.1f%%, early %.1f%%, leak %.1f%%; sky ours "
+        "%.1f%% vs Embree %.1f%%\n",
+        d.all.rays, 100.0 * double(d.all.closed) / double(std::max<std::size_t>(1, d.all.rays)),
+        100.0 * double(d.all.early) / double(std::max<std::size_t>(1, d.all.rays)),
+        100.0 * double(d.all.leaks) / double(std::max<std::size_t>(1, d.all.rays)),
+        100.0 * d.skyOurs, 100.0 * d.skyEmbree);
+    into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades));
+  }
+
   // Light switch: off for offFrames, then on again. Converged = 95% of the switch's effect
   // recovered beyond the field's own jitter: mean |E_t - E_on| <= 0.05 mean |E_on - E_off| +
   // mean |E_on' - E_on| (E_on, E_on' two consecutive converged frames; E_off the last dark
@@ -284,6 +310,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   if (!sc.points.reference.empty()) score(sc.points, e, r);
   if (keep) *keep = e;
   if (peersInto && opt.peers && sc.scene.triangles) run.runPeersOnProbeRays(*peersInto);
+  if (peersInto && opt.diagnose && sc.scene.triangles) run.diagnoseRays(*peersInto);
   r.convergeCap = cfg.converge ? opt.convergeCap : 0;
   if (r.convergeCap > 0 && !sc.scene.lights.lights.empty() && !sc.testQueries.empty())
     run.measureConvergence(r);

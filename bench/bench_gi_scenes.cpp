@@ -289,11 +289,81 @@ BenchScene bunnyScene(std::string* skip) {
   return b;
 }
 
+// A closed box [lo, hi] as six outward-facing quads.
+void addBox(TriangleScene& s, glm::vec3 lo, glm::vec3 hi, std::uint32_t material) {
+  const glm::vec3 c[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, lo.y, hi.z},
+                          {lo.x, lo.y, hi.z}, {lo.x, hi.y, lo.z}, {hi.x, hi.y, lo.z},
+                          {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+  addQuad(s, {c[4], c[7], c[6], c[5]}, material);  // top
+  addQuad(s, {c[0], c[1], c[2], c[3]}, material);  // bottom
+  addQuad(s, {c[0], c[4], c[5], c[1]}, material);  // -z
+  addQuad(s, {c[1], c[5], c[6], c[2]}, material);  // +x
+  addQuad(s, {c[2], c[6], c[7], c[3]}, material);  // +z
+  addQuad(s, {c[3], c[7], c[4], c[0]}, material);  // -x
+}
+
+// Sponza's failure in small: a courtyard open to the sky inside a covered arcade, lit by the sky
+// alone, larger than cascade 0 so that probe rays cross several cascades before they reach the
+// sky. 16 x 16 m open court; around it a 4 m deep arcade (floor, 0.4 m roof slab at 5 m, square
+// pillars every 4 m on the court side) closed by 0.4 m outer walls 9 m tall; 24.8 m across.
+TriangleScene builtInCourtyard() {
+  TriangleScene s;
+  s.source = "built-in courtyard";
+  const std::uint32_t stone = addMaterial(s, glm::vec3(0.6f, 0.55f, 0.48f), "stone");
+  const std::uint32_t ground = addMaterial(s, glm::vec3(0.45f, 0.42f, 0.36f), "ground");
+  const float court = 8.0f, arcade = 4.0f, wall = 0.4f, outer = court + arcade + wall;
+  const float roofLo = 5.0f, roofHi = 5.4f, wallTop = 9.0f, pillar = 0.5f;
+  addBox(s, {-outer, -0.3f, -outer}, {outer, 0.0f, outer}, ground);  // floor slab
+  // Outer walls.
+  addBox(s, {-outer, 0.0f, -outer}, {outer, wallTop, -outer + wall}, stone);
+  addBox(s, {-outer, 0.0f, outer - wall}, {outer, wallTop, outer}, stone);
+  addBox(s, {-outer, 0.0f, -outer + wall}, {-outer + wall, wallTop, outer - wall}, stone);
+  addBox(s, {outer - wall, 0.0f, -outer + wall}, {outer, wallTop, outer - wall}, stone);
+  // The arcade's roof: a frame of four slabs around the open court.
+  const float in = outer - wall;
+  addBox(s, {-in, roofLo, -in}, {in, roofHi, -court}, stone);
+  addBox(s, {-in, roofLo, court}, {in, roofHi, in}, stone);
+  addBox(s, {-in, roofLo, -court}, {-court, roofHi, court}, stone);
+  addBox(s, {court, roofLo, -court}, {in, roofHi, court}, stone);
+  // Pillars along the court's edge, every 4 m (corners included).
+  for (float a = -court; a <= court + 1e-3f; a += 4.0f)
+    for (const glm::vec2 at :
+         {glm::vec2(a, -court), glm::vec2(a, court), glm::vec2(-court, a), glm::vec2(court, a)}) {
+      const glm::vec3 c(at.x, 0.0f, at.y);
+      addBox(s, c - glm::vec3(pillar * 0.5f, 0.0f, pillar * 0.5f),
+             c + glm::vec3(pillar * 0.5f, roofLo, pillar * 0.5f), stone);
+    }
+  return s;
+}
+
+BenchScene courtyardScene() {
+  BenchScene b;
+  b.name = "courtyard";
+  TriangleScene s = builtInCourtyard();
+  describeBounds(s);
+  b.voxelSize = 0.05;  // cascade 0 = 6.4 m: the court alone spans cascades 0-2, the walls 3
+  b.lods = 4;
+  b.defaultCascades = 4;
+  b.cascadeSweep = {2, 3, 4};
+  b.lights.sky = daySky();  // sky only: every bit of light comes through the open roof
+  b.streamCamera = glm::dvec3(0.0, 1.7, 2.0);
+  b.viewDirection = glm::normalize(glm::vec3(0.0f, -0.2f, -1.0f));
+  // Across the court to the far arcade; and from inside the arcade, out into the court.
+  b.views.push_back(lookAt(glm::vec3(0.0f, 1.7f, 7.0f), glm::vec3(0.0f, 2.0f, -12.0f), 70.0f));
+  b.viewNames.push_back("court");
+  b.views.push_back(lookAt(glm::vec3(-10.0f, 1.7f, 10.0f), glm::vec3(4.0f, 1.0f, -2.0f), 70.0f));
+  b.viewNames.push_back("arcade");
+  b.description =
+      "built-in courtyard (16 m open court in a 4 m deep covered arcade, 24.8 m across, "
+      "larger than cascade 0); sky only";
+  b.triangles = std::make_unique<TriangleScene>(std::move(s));
+  return b;
+}
 }  // namespace
 
 const std::vector<std::string>& benchSceneNames() {
-  static const std::vector<std::string> names = {"cornell-box", "sponza", "breakfast-room",
-                                                 "large-world", "bunny"};
+  static const std::vector<std::string> names = {"cornell-box", "sponza",      "breakfast-room",
+                                                 "courtyard",   "large-world", "bunny"};
   return names;
 }
 
@@ -314,6 +384,7 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
   if (name == "breakfast-room")
     return gltfScene(name, dataDir / "breakfast-room" / "BreakfastRoom.gltf", 0.04, 3, 1, {1, 2, 3},
                      sun(glm::vec3(-0.55f, -0.6f, 0.6f), 4.0f), 2, skip);
+  if (name == "courtyard") return courtyardScene();
   if (name == "bunny") {
     BenchScene b = bunnyScene(skip);
     if (!b.triangles) return std::nullopt;
@@ -346,7 +417,8 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
                     " m): timings and memory only, no triangle reference";
     return b;
   }
-  *skip = name + ": unknown scene (cornell-box, sponza, breakfast-room, bunny, large-world)";
+  *skip =
+      name + ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, bunny, large-world)";
   return std::nullopt;
 }
 

@@ -12,6 +12,8 @@
 //                   split).
 //   sponza          ../shared/data/sponza (CapsaicinTestMedia): sun through the open roof + sky.
 //   breakfast-room  ../shared/data/breakfast-room: sun through the windows + sky.
+//   courtyard       built in code: a 16 m court open to the sky inside a covered arcade, sky only,
+//                   24.8 m across at 5 cm voxels (4 cascades): Sponza's geometry in small.
 //   bunny           glmark2's bunny on a ground slab under sun + sky (Debian glmark2-data): the
 //                   small scene quick mode uses when the Breakfast Room is absent.
 //   large-world     out/worlds/large-4km (sdfstream generate-world + bench world): timings and
@@ -56,8 +58,9 @@ struct BenchScene {
 // Every scene name loadBenchScene knows, in the order a full run uses.
 const std::vector<std::string>& benchSceneNames();
 
-// Scenes by name (cornell-box, sponza, breakfast-room, bunny, large-world). Returns nullopt and
-// sets *skip to a one-line reason when the scene's data is absent. dataDir is ../shared/data.
+// Scenes by name (cornell-box, sponza, breakfast-room, courtyard, bunny, large-world). Returns
+// nullopt and sets *skip to a one-line reason when the scene's data is absent. dataDir is
+// ../shared/data.
 std::optional<BenchScene> loadBenchScene(const std::string& name,
                                          const std::filesystem::path& dataDir,
                                          const std::filesystem::path& largeWorld,

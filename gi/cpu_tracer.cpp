@@ -40,7 +40,7 @@ struct CascadeTracer {
     TraceHit h{};
     h.steps = r.steps;
     h.flags = (r.hit ? kHitFlagHit : 0u) | (r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |
-            (r.missingData ? kHitFlagMissingData : 0u);
+              (r.missingData ? kHitFlagMissingData : 0u);
     if (r.hit) {
       vec3 n = sdfNormal(r.position, pc.toroidalOffset);
       h.normalT = vec4(n, r.t);
@@ -54,8 +54,9 @@ struct CascadeTracer {
 
   // Mirrors main() of trace_stack.comp.
   TraceHit traceStackOne(const TraceRay& ray, const TraceStackPushConstants& pc) {
-    SdfStackResult s = sdfTraceStack(vec3(ray.originTMin), vec3(ray.dirTMax), ray.originTMin.w,
-                                     ray.dirTMax.w, pc.maxSteps, pc.hitEpsilon, pc.cascadeCount);
+    SdfStackResult s =
+        sdfTraceStackFrom(vec3(ray.originTMin), vec3(ray.dirTMax), ray.originTMin.w, ray.dirTMax.w,
+                          pc.maxSteps, pc.hitEpsilon, pc.firstCascade, pc.cascadeCount);
     TraceHit h{};
     h.steps = s.steps;
     h.flags = (s.r.hit ? kHitFlagHit : 0u) | (s.r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |
@@ -85,6 +86,7 @@ std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
   pc.maxSteps = settings.maxSteps;
   pc.hitEpsilon = settings.hitEpsilon;
   pc.cascadeCount = std::uint32_t(stack.params.size());
+  pc.firstCascade = settings.firstCascade;
   std::vector<gpu_shared::TraceHit> hits(rays.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
     auto local = tracer;

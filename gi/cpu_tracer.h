@@ -12,8 +12,9 @@
 namespace sdfstream {
 
 struct TraceSettings {
-  std::uint32_t maxSteps = 256;  // iteration cap per ray
-  float hitEpsilon = 0.02f;      // voxels; a distance sample below this is a hit
+  std::uint32_t maxSteps = 256;    // iteration cap per ray
+  float hitEpsilon = 0.02f;        // voxels; a distance sample below this is a hit
+  std::uint32_t firstCascade = 0;  // stack traversal: start here, as a probe of that cascade
 };
 
 // Traces rays (cascade voxel units) against the cascade. Thread-safe; parallel over rays (TBB).

@@ -1,12 +1,12 @@
 #include "gi/gpu_stack_tracer.h"
 
-
 namespace sdfstream {
 GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack)
     : context_(context),
       batch_(context),
-      pipeline_(context, gpu::ShaderId::trace_stack,
-                gpu::PipelineDesc{7, sizeof(gpu_shared::TraceStackPushConstants), glm::uvec3(64, 1, 1)}),
+      pipeline_(
+          context, gpu::ShaderId::trace_stack,
+          gpu::PipelineDesc{7, sizeof(gpu_shared::TraceStackPushConstants), glm::uvec3(64, 1, 1)}),
       scene_(context) {
   scene_.sync(stack, {});
 }
@@ -16,12 +16,13 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
   if (rays.empty()) return {};
   batch_.stage(rays);
   gpu_shared::TraceStackPushConstants pc{std::uint32_t(rays.size()), settings.maxSteps,
-                                         settings.hitEpsilon, scene_.cascadeCount()};
+                                         settings.hitEpsilon, scene_.cascadeCount(),
+                                         settings.firstCascade};
   gpu::CommandBatch batch = context_.beginBatch();
   batch.dispatch("trace_stack", pipeline_,
-                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.distance(), &scene_.albedo(),
-                  &scene_.emission(), &scene_.params()}, &pc,
-                 sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
+                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.distance(),
+                  &scene_.albedo(), &scene_.emission(), &scene_.params()},
+                 &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch.submitAndWait();
   timings_ = batch.timings();
   return batch_.readHits();

@@ -30,8 +30,9 @@ void main() {
   uint id = gl_GlobalInvocationID.x;
   if (id >= pc.rayCount) return;
   TraceRay ray = rays[id];
-  SdfStackResult s = sdfTraceStack(ray.originTMin.xyz, ray.dirTMax.xyz, ray.originTMin.w,
-                                   ray.dirTMax.w, pc.maxSteps, pc.hitEpsilon, pc.cascadeCount);
+  SdfStackResult s =
+      sdfTraceStackFrom(ray.originTMin.xyz, ray.dirTMax.xyz, ray.originTMin.w, ray.dirTMax.w,
+                        pc.maxSteps, pc.hitEpsilon, pc.firstCascade, pc.cascadeCount);
   TraceHit h;
   h.steps = s.steps;
   h.flags = (s.r.hit ? kHitFlagHit : 0u) | (s.r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |

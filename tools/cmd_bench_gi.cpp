@@ -45,7 +45,8 @@ constexpr const char* kHelp =
     "  --quick        Cornell box + one small scene (Breakfast Room, else the bunny), a reduced\n"
     "                 sweep, 96x72 views, 256 reference paths, fewer frames (<= 10 min on 2 "
     "cores)\n"
-    "  --scenes LIST  cornell-box,sponza,breakfast-room,bunny,large-world (default: all of them;\n"
+    "  --scenes LIST  cornell-box,sponza,breakfast-room,courtyard,bunny,large-world (default: "
+    "all;\n"
     "                 missing data is skipped with a message)\n"
     "  --out DIR      default out/bench-gi        --data DIR  default ../shared/data\n"
     "  --large-world  default out/worlds/large-4km (a pack; skipped when absent)\n"
@@ -56,6 +57,9 @@ constexpr const char* kHelp =
     "  --configs LIST run only these configurations (names as in results.csv)\n"
     "  --converge-cap N  most frames waited for convergence after the light change (0: skip)\n"
     "  --verbose      print every measured frame's pass times and work\n"
+    "  --diagnose     also where the light goes: the default's probe rays against Embree by the\n"
+    "                 cascade they end in (openings closed, surfaces early, leaks, sky seen), and\n"
+    "                 its one-bounce transport against a one-bounce reference\n"
     "  --query-offset V  GI queries sit V LOD-0 voxels off the reference's points along the\n"
     "                 normal (default 0.5: on the SDF surface of an open sheet)\n"
     "  --gpu-table    only the per-pass time table of scripts/bench-gpu (SDFDDGI's probe count,\n"
@@ -68,7 +72,8 @@ int runBenchGi(int argc, char** argv) {
       argc, argv, 3,
       {"--scenes", "--out", "-o", "--data", "--large-world", "--width", "--height", "--samples",
        "--frames", "--measure", "--device", "--converge-cap", "--configs", "--query-offset"},
-      {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose"});
+      {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose",
+       "--diagnose"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -81,6 +86,7 @@ int runBenchGi(int argc, char** argv) {
   opt.gpuTable = args.has("--gpu-table");
   opt.peers = !args.has("--no-peers") && !opt.gpuTable;
   opt.verbose = args.has("--verbose");
+  opt.diagnose = args.has("--diagnose");
   if (auto c = args.value("--configs")) opt.only = splitList(*c);
   opt.out = args.value("--out").value_or(args.value("-o").value_or(opt.out.string()));
   opt.data = args.value("--data").value_or(opt.data.string());
@@ -100,7 +106,8 @@ int runBenchGi(int argc, char** argv) {
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw InputError(
           InputErrorKind::Usage, "command line",
-          "unknown scene '" + name + "' (cornell-box, sponza, breakfast-room, large-world, bunny)");
+          "unknown scene '" + name +
+              "' (cornell-box, sponza, breakfast-room, courtyard, large-world, bunny)");
   const auto device = deviceFromArgs(args);
   if (!device)
     throw InputError(InputErrorKind::Usage, "command line", "bench gi needs a GPU (no --cpu)");

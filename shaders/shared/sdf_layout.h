@@ -86,6 +86,7 @@ struct TraceStackPushConstants {
   uint maxSteps;
   float hitEpsilon;
   uint cascadeCount;
+  uint firstCascade;  // rays start in this cascade and go coarser (a probe of that cascade)
 };
 
 SDF_CONST uint kMaxCascades = 8;
@@ -94,7 +95,7 @@ SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::CascadeTraceParams) == 32);
-static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 20);
 static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 32);

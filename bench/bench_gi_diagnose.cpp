@@ -1,0 +1,138 @@
+#include "bench/bench_gi_diagnose.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "gi/gpu_stack_tracer.h"
+
+namespace sdfstream::bench {
+namespace {
+
+// Adds one ray (t in metres, negative = escaped) to a row.
+void count(RayAgreement& row, std::vector<double>& dt, float ours, float embree, double voxel) {
+  ++row.rays;
+  const bool a = ours >= 0.0f, b = embree >= 0.0f;
+  row.embreeHits += b;
+  if (a && !b) ++row.closed;
+  if (!a && b) ++row.leaks;
+  if (a && b) {
+    const double d = (double(ours) - double(embree)) / voxel;
+    if (d < -ProbeRayDiagnosis::kEarlyVoxels) ++row.early;
+    if (d > ProbeRayDiagnosis::kEarlyVoxels) ++row.late;
+    dt.push_back(std::abs(d));
+  }
+}
+
+void finish(RayAgreement& row, std::vector<double>& dt) {
+  if (dt.empty()) return;
+  std::sort(dt.begin(), dt.end());
+  row.medianAbsDtVoxels = dt[dt.size() / 2];
+  row.p90AbsDtVoxels = dt[std::min(dt.size() - 1, dt.size() * 9 / 10)];
+}
+
+std::string percent(std::size_t part, std::size_t whole) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f%%", whole ? 100.0 * double(part) / double(whole) : 0.0);
+  return s;
+}
+
+std::string row(const std::string& label, const RayAgreement& r) {
+  char s[256];
+  std::snprintf(s, sizeof s, "| %s | %zu | %s | %s | %s | %s | %s | %.2f | %.2f |\n", label.c_str(),
+                r.rays, percent(r.embreeHits, r.rays).c_str(), percent(r.closed, r.rays).c_str(),
+                percent(r.early, r.rays).c_str(), percent(r.late, r.rays).c_str(),
+                percent(r.leaks, r.rays).c_str(), r.medianAbsDtVoxels, r.p90AbsDtVoxels);
+  return s;
+}
+
+}  // namespace
+
+ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) {
+  const std::size_t n = rays.origin.size();
+  std::vector<float> tEmbree(n, -1.0f), tOurs(n, -1.0f);
+  std::vector<std::uint32_t> endCascade(n, 0);
+  tbb::task_arena arena(in.threads);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const auto hit =
+                in.embree->intersect(rays.origin[i], rays.direction[i], 0.0f, rays.tMax[i]);
+            tEmbree[i] = hit ? hit->t : -1.0f;
+          }
+        });
+  });
+  // Ours as the probes trace: each cascade's rays start in that cascade.
+  std::uint32_t cascades = 0;
+  for (std::uint32_t c : rays.cascade) cascades = std::max(cascades, c + 1);
+  GpuStackTracer tracer(*in.context, *in.stack);
+  tracer.sync(*in.stack, in.allSlots);
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    std::vector<gpu_shared::TraceRay> batch;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < n; ++i)
+      if (rays.cascade[i] == c) {
+        batch.push_back(rays.stack[i]);
+        index.push_back(i);
+      }
+    TraceSettings settings;
+    settings.maxSteps = in.maxSteps;
+    settings.hitEpsilon = in.hitEpsilon;
+    settings.firstCascade = c;
+    const std::vector<gpu_shared::TraceHit> hits = tracer.trace(batch, settings);
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      const std::size_t i = index[k];
+      endCascade[i] = (hits[k].flags >> gpu_shared::kHitCascadeShift) & 15u;
+      if (hits[k].flags & gpu_shared::kHitFlagHit)
+        tOurs[i] = float(double(hits[k].normalT.w) * in.voxelSize);
+    }
+  }
+  ProbeRayDiagnosis d;
+  std::uint32_t stackCascades = 0;
+  for (std::uint32_t c : endCascade) stackCascades = std::max(stackCascades, c + 1);
+  d.byCascade.resize(std::max(stackCascades, cascades));
+  std::vector<std::vector<double>> dt(d.byCascade.size());
+  std::vector<double> dtAll;
+  std::size_t skyOurs = 0, skyEmbree = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    count(d.byCascade[endCascade[i]], dt[endCascade[i]], tOurs[i], tEmbree[i], in.voxelSize);
+    count(d.all, dtAll, tOurs[i], tEmbree[i], in.voxelSize);
+    skyOurs += tOurs[i] < 0.0f;
+    skyEmbree += tEmbree[i] < 0.0f;
+  }
+  for (std::size_t c = 0; c < d.byCascade.size(); ++c) finish(d.byCascade[c], dt[c]);
+  finish(d.all, dtAll);
+  d.skyOurs = n ? double(skyOurs) / double(n) : 0.0;
+  d.skyEmbree = n ? double(skyEmbree) / double(n) : 0.0;
+  return d;
+}
+
+std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades) {
+  char early[16];
+  std::snprintf(early, sizeof early, "%.0f", ProbeRayDiagnosis::kEarlyVoxels);
+  std::string s =
+      "Probe rays of one frame of the default, traced as the probes trace them (from the probe's "
+      "cascade outwards) and by Embree on the source triangles, by the cascade our ray ends in. "
+      "*closed*: we hit where the triangles let the ray escape; *early* / *late*: both hit, ours "
+      "more than " +
+      std::string(early) +
+      " LOD-0 voxels before / after Embree's; *leak*: we escape where the triangles block; "
+      "|Δt| in LOD-0 voxels over rays both hit.\n\n"
+      "| ends in cascade | rays | Embree hits | closed | early | late | leak | median |Δt| | "
+      "p90 |Δt| |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t c = 0; c < d.byCascade.size() && c < std::max<std::size_t>(cascades, 1); ++c)
+    s += row(std::to_string(c), d.byCascade[c]);
+  s += row("all", d.all);
+  char sky[160];
+  std::snprintf(
+      sky, sizeof sky, "\nRays reaching the sky: ours %.1f%%, Embree %.1f%% (ratio %.3f).\n",
+      100.0 * d.skyOurs, 100.0 * d.skyEmbree, d.skyEmbree > 0.0 ? d.skyOurs / d.skyEmbree : 0.0);
+  return s + sky;
+}
+
+}  // namespace sdfstream::bench

@@ -1,0 +1,46 @@
+// `sdfstream bench gi --diagnose`: where the probe GI loses (or gains) light against the
+// reference, measured instead of guessed.
+//  - Probe rays against Embree, split by the cascade our traversal ends in: every probe ray of
+//    one frame of the default configuration, traced through the stack (GpuStackTracer) and on
+//    the source triangles. Per cascade: how often we hit where the triangles let the ray escape
+//    (an opening closed: sky turned into surface), hit more than a few voxels early (surfaces
+//    standing proud), or escape where the triangles are hit (a leak); and the fraction of rays
+//    reaching the sky in both.
+//  - The bounces: the reference capped at one surface hit after the receiver (sky and emission
+//    seen directly, plus the delta lights at the first hit) against the GI without its
+//    multi-bounce feedback (bounceGain 0), which is the same transport; the rest of E/E_ref is
+//    then the multi-bounce part.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "bench/bench_gi_peers.h"
+
+namespace sdfstream::bench {
+
+struct RayAgreement {
+  std::size_t rays = 0;
+  std::size_t embreeHits = 0;  // rays the triangles block within the bound
+  std::size_t closed = 0;      // we hit, the triangles let the ray escape
+  std::size_t early = 0;       // both hit, ours more than kEarlyVoxels before Embree's
+  std::size_t late = 0;        // both hit, ours more than kEarlyVoxels after Embree's
+  std::size_t leaks = 0;       // we escape (or run out of steps), the triangles block it
+  double medianAbsDtVoxels = 0.0, p90AbsDtVoxels = 0.0;  // over rays both hit, LOD-0 voxels
+};
+
+struct ProbeRayDiagnosis {
+  static constexpr double kEarlyVoxels = 4.0;
+  std::vector<RayAgreement> byCascade;  // by the cascade our ray ends in (hit or escape)
+  RayAgreement all;
+  double skyOurs = 0.0, skyEmbree = 0.0;  // fraction of rays that escape
+};
+
+// Traces `rays` through the stack on the device and with Embree (in.threads CPU threads).
+ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);
+
+// The diagnosis as markdown (a table per cascade and the sky fractions), for summary.md.
+std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades);
+
+}  // namespace sdfstream::bench
