@@ -8,7 +8,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "demo/frame_image.h"
 #include "gi/gpu_stack_tracer.h"
+#include "reference/metrics.h"
 
 namespace sdfstream::bench {
 namespace {
@@ -54,7 +56,7 @@ std::string row(const std::string& label, const RayAgreement& r) {
 
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) {
   const std::size_t n = rays.origin.size();
-  std::vector<float> tEmbree(n, -1.0f), tOurs(n, -1.0f);
+  std::vector<float> tEmbree(n, -1.0f), tOurs(n, -1.0f), aEmbree(n, 0.0f), aOurs(n, 0.0f);
   std::vector<std::uint32_t> endCascade(n, 0);
   tbb::task_arena arena(in.threads);
   arena.execute([&] {
@@ -64,6 +66,9 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
             const auto hit =
                 in.embree->intersect(rays.origin[i], rays.direction[i], 0.0f, rays.tMax[i]);
             tEmbree[i] = hit ? hit->t : -1.0f;
+            if (hit)
+              aEmbree[i] =
+                  luminance(glm::vec3(sampleAlbedo(*in.triangles, hit->triangle, hit->bary)));
           }
         });
   });
@@ -88,8 +93,12 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
     for (std::size_t k = 0; k < hits.size(); ++k) {
       const std::size_t i = index[k];
       endCascade[i] = (hits[k].flags >> gpu_shared::kHitCascadeShift) & 15u;
-      if (hits[k].flags & gpu_shared::kHitFlagHit)
+      if (hits[k].flags & gpu_shared::kHitFlagHit) {
         tOurs[i] = float(double(hits[k].normalT.w) * in.voxelSize);
+        const std::uint32_t a = hits[k].albedo;
+        const glm::vec3 srgb(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u));
+        aOurs[i] = luminance(reference::srgbToLinear(srgb / 255.0f));
+      }
     }
   }
   ProbeRayDiagnosis d;
@@ -104,6 +113,17 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
     count(d.all, dtAll, tOurs[i], tEmbree[i], in.voxelSize);
     skyOurs += tOurs[i] < 0.0f;
     skyEmbree += tEmbree[i] < 0.0f;
+    if (tOurs[i] >= 0.0f && tEmbree[i] >= 0.0f &&
+        std::abs(double(tOurs[i]) - double(tEmbree[i])) <=
+            ProbeRayDiagnosis::kEarlyVoxels * in.voxelSize) {
+      d.albedoOurs += aOurs[i];
+      d.albedoEmbree += aEmbree[i];
+      ++d.albedoRays;
+    }
+  }
+  if (d.albedoRays) {
+    d.albedoOurs /= double(d.albedoRays);
+    d.albedoEmbree /= double(d.albedoRays);
   }
   for (std::size_t c = 0; c < d.byCascade.size(); ++c) finish(d.byCascade[c], dt[c]);
   finish(d.all, dtAll);
@@ -132,7 +152,13 @@ std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades) 
   std::snprintf(
       sky, sizeof sky, "\nRays reaching the sky: ours %.1f%%, Embree %.1f%% (ratio %.3f).\n",
       100.0 * d.skyOurs, 100.0 * d.skyEmbree, d.skyEmbree > 0.0 ? d.skyOurs / d.skyEmbree : 0.0);
-  return s + sky;
+  char albedo[200];
+  std::snprintf(albedo, sizeof albedo,
+                "Albedo where both hit (within %s voxels, %zu rays): ours %.3f, the source's %.3f "
+                "(ratio %.3f).\n",
+                early, d.albedoRays, d.albedoOurs, d.albedoEmbree,
+                d.albedoEmbree > 0.0 ? d.albedoOurs / d.albedoEmbree : 0.0);
+  return s + sky + albedo;
 }
 
 }  // namespace sdfstream::bench

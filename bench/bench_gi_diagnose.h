@@ -35,9 +35,14 @@ struct ProbeRayDiagnosis {
   std::vector<RayAgreement> byCascade;  // by the cascade our ray ends in (hit or escape)
   RayAgreement all;
   double skyOurs = 0.0, skyEmbree = 0.0;  // fraction of rays that escape
+  // Over rays both hit within kEarlyVoxels: mean linear albedo (luminance) of our hit cell (the
+  // atlas) and of the source triangle's material at Embree's hit -- what a bounce reflects.
+  double albedoOurs = 0.0, albedoEmbree = 0.0;
+  std::size_t albedoRays = 0;
 };
 
-// Traces `rays` through the stack on the device and with Embree (in.threads CPU threads).
+// Traces `rays` through the stack on the device and with Embree (in.threads CPU threads);
+// in.triangles gives the source albedo.
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);
 
 // The diagnosis as markdown (a table per cascade and the sky fractions), for summary.md.

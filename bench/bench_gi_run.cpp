@@ -228,6 +228,7 @@ class ConfigRun {
     pi.stack = st_.stack.get();
     pi.allSlots = st_.allSlots;
     pi.embree = &embree;
+    pi.triangles = sc_.scene.triangles.get();
     pi.voxelSize = sc_.scene.voxelSize;
     pi.maxSteps = cfg_.probes.maxSteps;
     pi.hitEpsilon = cfg_.probes.hitEpsilon;

@@ -336,9 +336,9 @@ TriangleScene builtInCourtyard() {
   return s;
 }
 
-BenchScene courtyardScene() {
+BenchScene courtyardScene(bool withSun) {
   BenchScene b;
-  b.name = "courtyard";
+  b.name = withSun ? "courtyard-sun" : "courtyard";
   TriangleScene s = builtInCourtyard();
   describeBounds(s);
   b.voxelSize = 0.05;  // cascade 0 = 6.4 m: the court alone spans cascades 0-2, the walls 3
@@ -346,6 +346,7 @@ BenchScene courtyardScene() {
   b.defaultCascades = 4;
   b.cascadeSweep = {2, 3, 4};
   b.lights.sky = daySky();  // sky only: every bit of light comes through the open roof
+  if (withSun) b.lights.lights.push_back(sun(glm::vec3(0.3f, -1.0f, 0.25f), 4.0f));  // Sponza's
   b.streamCamera = glm::dvec3(0.0, 1.7, 2.0);
   b.viewDirection = glm::normalize(glm::vec3(0.0f, -0.2f, -1.0f));
   // Across the court to the far arcade; and from inside the arcade, out into the court.
@@ -355,15 +356,17 @@ BenchScene courtyardScene() {
   b.viewNames.push_back("arcade");
   b.description =
       "built-in courtyard (16 m open court in a 4 m deep covered arcade, 24.8 m across, "
-      "larger than cascade 0); sky only";
+      "larger than cascade 0); " +
+      std::string(withSun ? "Sponza's sun (hard shadows) + sky" : "sky only");
   b.triangles = std::make_unique<TriangleScene>(std::move(s));
   return b;
 }
 }  // namespace
 
 const std::vector<std::string>& benchSceneNames() {
-  static const std::vector<std::string> names = {"cornell-box", "sponza",      "breakfast-room",
-                                                 "courtyard",   "large-world", "bunny"};
+  static const std::vector<std::string> names = {"cornell-box", "sponza",        "breakfast-room",
+                                                 "courtyard",   "courtyard-sun", "large-world",
+                                                 "bunny"};
   return names;
 }
 
@@ -384,7 +387,8 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
   if (name == "breakfast-room")
     return gltfScene(name, dataDir / "breakfast-room" / "BreakfastRoom.gltf", 0.04, 3, 1, {1, 2, 3},
                      sun(glm::vec3(-0.55f, -0.6f, 0.6f), 4.0f), 2, skip);
-  if (name == "courtyard") return courtyardScene();
+  if (name == "courtyard" || name == "courtyard-sun")
+    return courtyardScene(name == "courtyard-sun");
   if (name == "bunny") {
     BenchScene b = bunnyScene(skip);
     if (!b.triangles) return std::nullopt;
@@ -417,8 +421,9 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
                     " m): timings and memory only, no triangle reference";
     return b;
   }
-  *skip =
-      name + ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, bunny, large-world)";
+  *skip = name +
+          ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, bunny, "
+          "large-world)";
   return std::nullopt;
 }
 
