@@ -13,7 +13,9 @@
 #include "demo/frame_image.h"
 #include "gi/gi_system.h"
 #include "gi/probe_math.h"
+#include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
+#include "reference/path_tracer.h"
 
 namespace sdfstream::bench {
 namespace {
@@ -241,6 +243,80 @@ class ConfigRun {
         100.0 * double(d.all.leaks) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * d.skyOurs, 100.0 * d.skyEmbree);
     into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades));
+    diagnoseProbeIrradiance(into);
+  }
+
+  // --diagnose: the field's irradiance at the probes themselves (up to 512 probes that are not
+  // off, 6 axis normals each) against the reference there. Near 1 while the receivers' E/E_ref
+  // is not: the loss is in sampling (weights, visibility); as low as the receivers': it is in
+  // what the probes gather.
+  void diagnoseProbeIrradiance(SceneReport& into) {
+    const CascadeStackImage img = st_.stack->stackImage();
+    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
+    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const std::vector<glm::vec4> data = gi_.probes().downloadProbeData();
+    const std::uint32_t perVolume = cfg_.probes.probesPerVolume();
+    struct At {
+      glm::vec3 stack;
+      std::uint32_t cascade;
+    };
+    std::vector<At> live;
+    for (std::size_t c = 0; c < f.volumes.size(); ++c) {
+      const gpu_shared::ProbeVolume& v = f.volumes[c];
+      const glm::ivec3 counts(v.countsRays);
+      for (std::uint32_t st = 0; st < perVolume; ++st) {
+        const glm::vec4 d = data[c * perVolume + st];
+        if (std::uint32_t(d.w) == gpu_shared::kProbeOff) continue;
+        const glm::ivec3 storage(int(st % counts.x), int(st / counts.x % counts.y),
+                                 int(st / (counts.x * counts.y)));
+        const glm::ivec3 logical = (storage - glm::ivec3(v.scroll) + counts) % counts;
+        live.push_back(
+            {glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d),
+             std::uint32_t(c)});
+      }
+    }
+    const std::size_t stride = std::max<std::size_t>(1, live.size() / 512);
+    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    std::vector<gpu_shared::ProbeQuery> queries;
+    std::vector<glm::vec3> positions, normals;
+    std::vector<std::uint32_t> cascadeOf;
+    for (std::size_t i = 0; i < live.size(); i += stride)
+      for (const glm::vec3& n : axes) {
+        queries.push_back({glm::vec4(live[i].stack, 0.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f)});
+        positions.push_back(
+            glm::vec3(img.cascade0MinWorld + glm::dvec3(live[i].stack) * img.voxelSize0));
+        normals.push_back(n);
+        cascadeOf.push_back(live[i].cascade);
+      }
+    if (queries.empty()) return;
+    const std::vector<glm::vec3> gi = gi_.irradiance(queries);
+    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+    const auto ref =
+        reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,
+                                    sc_.opt.samples, reference::IrradianceKind::NoDirectLights);
+    std::vector<double> sumGi(f.volumes.size(), 0.0), sumRef(f.volumes.size(), 0.0);
+    std::vector<std::size_t> n(f.volumes.size(), 0);
+    for (std::size_t i = 0; i < gi.size(); ++i) {
+      sumGi[cascadeOf[i]] += luminance(gi[i]);
+      sumRef[cascadeOf[i]] += luminance(ref[i].mean);
+      ++n[cascadeOf[i]];
+    }
+    std::string s =
+        "\nIrradiance at the probes themselves (sampled at each probe's position, 6 axis "
+        "normals) against the reference there, mean luminance, by the cascade the probe belongs to "
+        "(sampling there reads the finest cascade that holds the point):\n\n"
+        "| cascade | queries | GI | reference | ratio |\n|---|---|---|---|---|\n";
+    for (std::size_t c = 0; c < n.size(); ++c) {
+      if (n[c] == 0) continue;
+      char row[160];
+      std::snprintf(row, sizeof row, "| %zu | %zu | %.4g | %.4g | %.3f |\n", c, n[c],
+                    sumGi[c] / double(n[c]), sumRef[c] / double(n[c]),
+                    sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0);
+      s += row;
+      std::printf("    diagnose: probes of cascade %zu: GI/reference %.3f (%zu queries)\n", c,
+                  sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0, n[c]);
+    }
+    into.diagnosis += s;
   }
 
   // Light switch: off for offFrames, then on again. Converged = 95% of the switch's effect
