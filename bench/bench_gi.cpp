@@ -13,6 +13,7 @@
 #include "bench/bench_gi_scenes.h"
 #include "core/stopwatch.h"
 #include "demo/frame_image.h"
+#include "gi/probe_field_frame.h"
 #include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
 
@@ -171,6 +172,48 @@ void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<gl
       refAll, refAll > 0 ? giAll / refAll : 0.0);
   std::printf("    diagnose:%s", s + 1);
   rep.diagnosis += s;
+
+  // E/E_ref by the cascade each receiver is sampled from (the finest whose probe grid holds it
+  // half a spacing inside, as probeFieldIrradiance picks it).
+  const CascadeStackImage img = sc.stacks.at(def.cascades).stack->stackImage();
+  probe::ProbeFrameInputs in;
+  in.cameraWorld = sc.scene.streamCamera;
+  in.viewDirection = sc.scene.viewDirection;
+  probe::ProbeFieldFrameBuilder builder(def.probes);
+  const probe::ProbeFieldFrame f = builder.build(img, in, 0);
+  const std::size_t cascades = f.volumes.size();
+  std::vector<double> gi(cascades, 0.0), ref(cascades, 0.0);
+  std::vector<std::size_t> count(cascades, 0);
+  for (std::size_t i = 0; i < sc.queries.size(); ++i) {
+    const glm::vec3 x(sc.queries[i].position);
+    std::size_t pick = cascades - 1;
+    for (std::size_t c = 0; c + 1 < cascades; ++c) {
+      const gpu_shared::ProbeVolume& v = f.volumes[c];
+      const glm::vec3 g = (x - glm::vec3(v.originSpacing)) / v.originSpacing.w;
+      const glm::vec3 hi = glm::vec3(glm::ivec3(v.countsRays)) - 1.0f - g;
+      if (std::min({g.x, g.y, g.z, hi.x, hi.y, hi.z}) > 0.5f) {
+        pick = c;
+        break;
+      }
+    }
+    gi[pick] += luminance(eFull[i]);
+    ref[pick] += luminance(p.reference[i]);
+    ++count[pick];
+  }
+  rep.diagnosis +=
+      "\nReceivers by the cascade they are sampled from (the finest whose probe grid holds "
+      "them half a spacing inside), mean luminance:\n\n| cascade | receivers | GI | reference | "
+      "E/E_ref |\n|---|---|---|---|---|\n";
+  for (std::size_t c = 0; c < cascades; ++c) {
+    if (count[c] == 0) continue;
+    char row[160];
+    std::snprintf(row, sizeof row, "| %zu | %zu | %.4g | %.4g | %.3f |\n", c, count[c],
+                  gi[c] / double(count[c]), ref[c] / double(count[c]),
+                  ref[c] > 0.0 ? gi[c] / ref[c] : 0.0);
+    rep.diagnosis += row;
+    std::printf("    diagnose: receivers sampled from cascade %zu: %zu, E/E_ref %.3f\n", c,
+                count[c], ref[c] > 0.0 ? gi[c] / ref[c] : 0.0);
+  }
 }
 
 // Every configuration in turn; the default and plain DDGI also get images per view.

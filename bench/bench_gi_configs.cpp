@@ -77,6 +77,11 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     add(prefix + "vis-chebyshev", "ours", "visibility chebyshev", s, cascades, !quick);
     s.visibility = ProbeFieldSettings::Visibility::Sdf;
     add(prefix + "vis-sdf", "ours", "visibility sdf", s, cascades, !quick);
+    // The perceptual encoding blends in irradiance^(1/5): for estimates that vary from frame to
+    // frame (a few rays seeing a bright patch) that mean is far below the mean of the values.
+    s = base;
+    s.irradianceGamma = 1.0f;
+    add(prefix + "gamma-1", "ours", "irradiance blended linearly (gamma 1)", s, cascades, !quick);
     if (quick)
       for (GiConfig& c : out)
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
