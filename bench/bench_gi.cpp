@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "bench/bench_gi_configs.h"
+#include "bench/bench_gi_diagnose.h"
 #include "bench/bench_gi_points.h"
 #include "bench/bench_gi_report.h"
 #include "bench/bench_gi_run.h"
@@ -182,20 +183,11 @@ void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<gl
   probe::ProbeFieldFrameBuilder builder(def.probes);
   const probe::ProbeFieldFrame f = builder.build(img, in, 0);
   const std::size_t cascades = f.volumes.size();
+  const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc.queries);
   std::vector<double> gi(cascades, 0.0), ref(cascades, 0.0);
   std::vector<std::size_t> count(cascades, 0);
   for (std::size_t i = 0; i < sc.queries.size(); ++i) {
-    const glm::vec3 x(sc.queries[i].position);
-    std::size_t pick = cascades - 1;
-    for (std::size_t c = 0; c + 1 < cascades; ++c) {
-      const gpu_shared::ProbeVolume& v = f.volumes[c];
-      const glm::vec3 g = (x - glm::vec3(v.originSpacing)) / v.originSpacing.w;
-      const glm::vec3 hi = glm::vec3(glm::ivec3(v.countsRays)) - 1.0f - g;
-      if (std::min({g.x, g.y, g.z, hi.x, hi.y, hi.z}) > 0.5f) {
-        pick = c;
-        break;
-      }
-    }
+    const std::uint32_t pick = picks[i];
     gi[pick] += luminance(eFull[i]);
     ref[pick] += luminance(p.reference[i]);
     ++count[pick];

@@ -132,6 +132,28 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
   return d;
 }
 
+std::vector<std::uint32_t> samplingCascades(std::span<const gpu_shared::ProbeVolume> volumes,
+                                            std::span<const gpu_shared::ProbeQuery> queries) {
+  std::vector<std::uint32_t> out;
+  out.reserve(queries.size());
+  const std::uint32_t cascades = std::uint32_t(volumes.size());
+  for (const gpu_shared::ProbeQuery& q : queries) {
+    const glm::vec3 x(q.position);
+    std::uint32_t pick = cascades > 0 ? cascades - 1 : 0;
+    for (std::uint32_t c = 0; c + 1 < cascades; ++c) {
+      const gpu_shared::ProbeVolume& v = volumes[c];
+      const glm::vec3 g = (x - glm::vec3(v.originSpacing)) / v.originSpacing.w;
+      const glm::vec3 hi = glm::vec3(glm::ivec3(v.countsRays)) - 1.0f - g;
+      if (std::min({g.x, g.y, g.z, hi.x, hi.y, hi.z}) > 0.5f) {
+        pick = c;
+        break;
+      }
+    }
+    out.push_back(pick);
+  }
+  return out;
+}
+
 std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades) {
   char early[16];
   std::snprintf(early, sizeof early, "%.0f", ProbeRayDiagnosis::kEarlyVoxels);

@@ -13,10 +13,12 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "bench/bench_gi_peers.h"
+#include "shaders/shared/probe_layout.h"
 
 namespace sdfstream::bench {
 
@@ -44,6 +46,11 @@ struct ProbeRayDiagnosis {
 // Traces `rays` through the stack on the device and with Embree (in.threads CPU threads);
 // in.triangles gives the source albedo.
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);
+
+// The cascade probeFieldIrradiance samples each query from: the finest whose probe grid holds
+// it at least half a spacing inside (the coarsest otherwise).
+std::vector<std::uint32_t> samplingCascades(std::span<const gpu_shared::ProbeVolume> volumes,
+                                            std::span<const gpu_shared::ProbeQuery> queries);
 
 // The diagnosis as markdown (a table per cascade and the sky fractions), for summary.md.
 std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades);

@@ -244,6 +244,105 @@ class ConfigRun {
         100.0 * d.skyOurs, 100.0 * d.skyEmbree);
     into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades));
     diagnoseProbeIrradiance(into);
+    diagnoseCascadesAlone(into);
+    diagnoseAwayFromSurfaces(into);
+  }
+
+  // --diagnose: the receivers moved off their surface along the normal by one probe spacing of
+  // their sampling cascade (in free space, up to 4096 of them), GI against the reference there.
+  // Near the probes-themselves ratio while the receivers' is not: the loss is in sampling next
+  // to surfaces; as low as the receivers': it is regional, in what the nearby probes gather.
+  void diagnoseAwayFromSurfaces(SceneReport& into) {
+    if (sc_.points.reference.empty()) return;
+    const CascadeStackImage img = st_.stack->stackImage();
+    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
+    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
+    const std::size_t stride = std::max<std::size_t>(1, sc_.queries.size() / 4096);
+    EmbreeScene embree(*sc_.scene.triangles);
+    std::vector<gpu_shared::ProbeQuery> moved;
+    std::vector<glm::vec3> positions, normals;
+    std::vector<std::size_t> source;
+    for (std::size_t i = 0; i < sc_.queries.size(); i += stride) {
+      const gpu_shared::ProbeQuery& q = sc_.queries[i];
+      const glm::vec3 n(q.normal);
+      const float spacing = f.volumes[picks[i]].originSpacing.w;  // cascade-0 voxels
+      const glm::vec3 at = glm::vec3(q.position) + n * spacing;
+      const glm::vec3 world = glm::vec3(img.cascade0MinWorld + glm::dvec3(at) * img.voxelSize0);
+      const glm::vec3 from = sc_.points.position[i];
+      // Only where the way out is free: the moved point must see its own surface point.
+      if (embree.intersect(from + n * float(0.01 * img.voxelSize0), n, 0.0f,
+                           float(double(spacing) * img.voxelSize0)))
+        continue;
+      moved.push_back({glm::vec4(at, 0.0f), q.normal, q.view});
+      positions.push_back(world);
+      normals.push_back(n);
+      source.push_back(i);
+    }
+    if (moved.empty()) return;
+    const std::vector<glm::vec3> e = gi_.irradiance(moved);
+    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+    const auto ref =
+        reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,
+                                    sc_.opt.samples, reference::IrradianceKind::NoDirectLights);
+    const std::vector<glm::vec3> atSurface = gi_.irradiance(sc_.queries);
+    double giAway = 0, refAway = 0, giHere = 0, refHere = 0;
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      giAway += luminance(e[k]);
+      refAway += luminance(ref[k].mean);
+      giHere += luminance(atSurface[source[k]]);
+      refHere += luminance(sc_.points.reference[source[k]]);
+    }
+    char s[400];
+    std::snprintf(s, sizeof s,
+                  "\nReceivers moved one probe spacing off their surface along the normal (%zu "
+                  "with a free way out): GI/reference there %.3f; the same receivers on their "
+                  "surface %.3f.\n",
+                  e.size(), refAway > 0 ? giAway / refAway : 0.0,
+                  refHere > 0 ? giHere / refHere : 0.0);
+    std::printf("    diagnose:%s", s + 1);
+    into.diagnosis += s;
+  }
+
+  // --diagnose: the receivers of each sampling cascade k, sampled from k alone and from each
+  // coarser cascade alone: whether another cascade's probes would serve them better.
+  void diagnoseCascadesAlone(SceneReport& into) {
+    const std::vector<glm::vec3>& ref = sc_.points.reference;
+    if (ref.empty() || cfg_.cascades < 2) return;
+    const CascadeStackImage img = st_.stack->stackImage();
+    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
+    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
+    const std::size_t n = f.volumes.size();
+    std::vector<std::vector<double>> gi(n, std::vector<double>(n, 0.0));
+    std::vector<double> sumRef(n, 0.0);
+    for (std::size_t i = 0; i < ref.size(); ++i) sumRef[picks[i]] += luminance(ref[i]);
+    for (std::uint32_t c = 0; c < n; ++c) {
+      std::vector<gpu_shared::ProbeQuery> q = sc_.queries;
+      for (gpu_shared::ProbeQuery& x : q) x.position.w = float(1 + c);
+      const std::vector<glm::vec3> e = gi_.irradiance(q);
+      for (std::size_t i = 0; i < e.size(); ++i)
+        if (picks[i] <= c) gi[picks[i]][c] += luminance(e[i]);
+    }
+    std::string s =
+        "\nReceivers of each sampling cascade sampled from one cascade alone (E/E_ref of that "
+        "group; only cascades at least as coarse as the group's):\n\n| sampled from |";
+    for (std::size_t c = 0; c < n; ++c) s += " cascade " + std::to_string(c) + " alone |";
+    s += "\n|---|";
+    for (std::size_t c = 0; c < n; ++c) s += "---|";
+    s += "\n";
+    for (std::size_t k = 0; k < n; ++k) {
+      if (sumRef[k] <= 0.0) continue;
+      s += "| " + std::to_string(k) + " |";
+      for (std::size_t c = 0; c < n; ++c) {
+        char cell[32];
+        std::snprintf(cell, sizeof cell, c < k ? " - |" : " %.3f |", gi[k][c] / sumRef[k]);
+        s += cell;
+      }
+      s += "\n";
+    }
+    std::printf("    diagnose: receivers by cascade, sampled from single cascades:%s", s.c_str());
+    into.diagnosis += s;
   }
 
   // --diagnose: the field's irradiance at the probes themselves (up to 512 probes that are not
