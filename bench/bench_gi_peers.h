@@ -34,6 +34,7 @@ struct PeerRays {
   std::vector<glm::vec3> origin, direction;  // world metres, unit direction
   std::vector<float> tMax;                   // world metres (same bound as stack's tMax)
   std::vector<std::uint32_t> cascade;        // the probe's cascade (its rays start there)
+  std::vector<std::uint32_t> probeCell;      // the probe's logical grid index in its cascade
 };
 
 struct PeerResult {

@@ -70,6 +70,8 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
         r.direction.push_back(dir);
         r.tMax.push_back(float(double(tExit) * img.voxelSize0));
         r.cascade.push_back(std::uint32_t(c));
+        r.probeCell.push_back(
+            std::uint32_t(logical.x + counts.x * (logical.y + counts.y * logical.z)));
       }
     }
   }
@@ -235,6 +237,52 @@ class ConfigRun {
     pi.maxSteps = cfg_.probes.maxSteps;
     pi.hitEpsilon = cfg_.probes.hitEpsilon;
     const ProbeRayDiagnosis d = diagnoseProbeRays(pi, rays);
+    std::string nearText;
+    // The same for the rays of the probes the receivers use (their cages in their sampling
+    // cascade): the light a receiver gets comes through these.
+    {
+      probe::ProbeFieldFrameBuilder builder(cfg_.probes);
+      const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+      const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
+      std::vector<std::vector<char>> cage(f.volumes.size());
+      for (std::size_t c = 0; c < f.volumes.size(); ++c)
+        cage[c].assign(cfg_.probes.probesPerVolume(), 0);
+      for (std::size_t i = 0; i < sc_.queries.size(); ++i) {
+        const gpu_shared::ProbeVolume& v = f.volumes[picks[i]];
+        const glm::ivec3 counts(v.countsRays);
+        const glm::ivec3 base = glm::clamp(
+            glm::ivec3(
+                glm::floor((glm::vec3(sc_.queries[i].position) - glm::vec3(v.originSpacing)) /
+                           v.originSpacing.w)),
+            glm::ivec3(0), counts - 2);
+        for (int k = 0; k < 8; ++k) {
+          const glm::ivec3 l = base + glm::ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
+          cage[picks[i]][std::size_t(l.x + counts.x * (l.y + counts.y * l.z))] = 1;
+        }
+      }
+      PeerRays near;
+      for (std::size_t i = 0; i < rays.origin.size(); ++i) {
+        if (!cage[rays.cascade[i]][rays.probeCell[i]]) continue;
+        near.stack.push_back(rays.stack[i]);
+        near.origin.push_back(rays.origin[i]);
+        near.direction.push_back(rays.direction[i]);
+        near.tMax.push_back(rays.tMax[i]);
+        near.cascade.push_back(rays.cascade[i]);
+        near.probeCell.push_back(rays.probeCell[i]);
+      }
+      if (!near.origin.empty()) {
+        const ProbeRayDiagnosis dn = diagnoseProbeRays(pi, near);
+        std::printf(
+            "    diagnose: rays of the receivers' cage probes: %zu; closed %.1f%%, early "
+            "%.1f%%; sky ours %.1f%% vs Embree %.1f%%\n",
+            dn.all.rays,
+            100.0 * double(dn.all.closed) / double(std::max<std::size_t>(1, dn.all.rays)),
+            100.0 * double(dn.all.early) / double(std::max<std::size_t>(1, dn.all.rays)),
+            100.0 * dn.skyOurs, 100.0 * dn.skyEmbree);
+        nearText = "\nOnly the rays of the probes in the receivers' cages:\n\n" +
+                   diagnosisMarkdown(dn, std::size_t(cfg_.cascades)) + "\n";
+      }
+    }
     std::printf(
         "    diagnose: %zu probe rays; closed %.1f%%, early %.1f%%, leak %.1f%%; sky ours "
         "%.1f%% vs Embree %.1f%%\n",
@@ -242,7 +290,7 @@ class ConfigRun {
         100.0 * double(d.all.early) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * double(d.all.leaks) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * d.skyOurs, 100.0 * d.skyEmbree);
-    into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades));
+    into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades)) + nearText;
     diagnoseProbeIrradiance(into);
     diagnoseCascadesAlone(into);
     diagnoseAwayFromSurfaces(into);
