@@ -132,6 +132,92 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
   return d;
 }
 
+SunAgreement diagnoseSunVisibility(const PeerInputs& in, const PeerRays& rays,
+                                   const CascadeStackImage& img, glm::vec3 toSun) {
+  const std::size_t n = rays.origin.size();
+  const std::size_t stride = std::max<std::size_t>(1, n / 1000000);
+  struct Point {
+    glm::vec3 world, normal;
+    bool lit;
+  };
+  std::vector<Point> points((n + stride - 1) / stride);
+  std::vector<char> valid(points.size(), 0);
+  tbb::task_arena arena(in.threads);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, points.size(), 1024),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            const std::size_t i = k * stride;
+            const auto hit =
+                in.embree->intersect(rays.origin[i], rays.direction[i], 0.0f, rays.tMax[i]);
+            if (!hit) continue;
+            glm::vec3 nrm = hit->normal;
+            if (glm::dot(nrm, rays.direction[i]) > 0.0f) nrm = -nrm;
+            if (glm::dot(nrm, toSun) <= 0.0f) continue;
+            const glm::vec3 x = rays.origin[i] + rays.direction[i] * hit->t;
+            const float eps = float(1e-3 * in.voxelSize);
+            points[k] = {x, nrm, !in.embree->occluded(x + nrm * eps, toSun, 0.0f, 1e30f)};
+            valid[k] = 1;
+          }
+        });
+  });
+  std::vector<gpu_shared::TraceRay> shadow;
+  std::vector<std::uint32_t> first;
+  std::vector<std::size_t> index;
+  const std::uint32_t cascades = std::uint32_t(img.params.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    if (!valid[k]) continue;
+    const glm::vec3 p0 = img.toStack(glm::dvec3(points[k].world));
+    std::uint32_t c = cascades - 1;
+    for (std::uint32_t j = 0; j < cascades; ++j) {
+      const glm::vec4 os = img.params[j].offsetScale;
+      const glm::vec3 local = (p0 - glm::vec3(os)) / os.w;
+      if (glm::all(glm::greaterThanEqual(local, glm::vec3(0.0f))) &&
+          glm::all(glm::lessThanEqual(local, glm::vec3(128.0f)))) {
+        c = j;
+        break;
+      }
+    }
+    const float voxel = img.params[c].offsetScale.w;
+    gpu_shared::TraceRay r;
+    r.originTMin = glm::vec4(p0 + points[k].normal * (0.5f * voxel), 0.0f);
+    r.dirTMax = glm::vec4(toSun, 1e9f);
+    shadow.push_back(r);
+    first.push_back(c);
+    index.push_back(k);
+  }
+  SunAgreement a;
+  GpuStackTracer tracer(*in.context, *in.stack);
+  tracer.sync(*in.stack, in.allSlots);
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    std::vector<gpu_shared::TraceRay> batch;
+    std::vector<std::size_t> which;
+    for (std::size_t j = 0; j < shadow.size(); ++j)
+      if (first[j] == c) {
+        batch.push_back(shadow[j]);
+        which.push_back(index[j]);
+      }
+    if (batch.empty()) continue;
+    TraceSettings settings;
+    settings.maxSteps = in.maxSteps;
+    settings.hitEpsilon = in.hitEpsilon;
+    settings.firstCascade = c;
+    const std::vector<gpu_shared::TraceHit> hits = tracer.trace(batch, settings);
+    for (std::size_t j = 0; j < hits.size(); ++j) {
+      // Out of steps counts as blocked, as the light cache counts it.
+      const bool oursLit =
+          (hits[j].flags & (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
+      const bool lit = points[which[j]].lit;
+      ++a.facing;
+      a.sunlit += lit;
+      a.lost += lit && !oursLit;
+      a.gained += !lit && oursLit;
+    }
+  }
+  return a;
+}
+
 std::vector<std::uint32_t> samplingCascades(std::span<const gpu_shared::ProbeVolume> volumes,
                                             std::span<const gpu_shared::ProbeQuery> queries) {
   std::vector<std::uint32_t> out;

@@ -47,6 +47,19 @@ struct ProbeRayDiagnosis {
 // in.triangles gives the source albedo.
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);
 
+// The sun's visibility where the probe rays land, ours against Embree's: at each Embree hit
+// (its normal turned towards the ray), a shadow ray towards the sun on the triangles, and one
+// through the stack from half a voxel of the finest cascade holding the point off the surface,
+// as the light cache casts it (unbounded: the sun is beyond the stack).
+struct SunAgreement {
+  std::size_t facing = 0;  // hits facing the sun
+  std::size_t sunlit = 0;  // of those, lit on the triangles
+  std::size_t lost = 0;    // lit on the triangles, shadowed through the stack
+  std::size_t gained = 0;  // shadowed on the triangles, lit through the stack
+};
+SunAgreement diagnoseSunVisibility(const PeerInputs& in, const PeerRays& rays,
+                                   const CascadeStackImage& img, glm::vec3 toSun);
+
 // The cascade probeFieldIrradiance samples each query from: the finest whose probe grid holds
 // it at least half a spacing inside (the coarsest otherwise).
 std::vector<std::uint32_t> samplingCascades(std::span<const gpu_shared::ProbeVolume> volumes,

@@ -281,6 +281,22 @@ class ConfigRun {
             100.0 * dn.skyOurs, 100.0 * dn.skyEmbree);
         nearText = "\nOnly the rays of the probes in the receivers' cages:\n\n" +
                    diagnosisMarkdown(dn, std::size_t(cfg_.cascades)) + "\n";
+        for (const SceneLight& l : sc_.scene.lights.lights) {
+          if (l.type != SceneLight::Type::Sun) continue;
+          const SunAgreement sa =
+              diagnoseSunVisibility(pi, near, img, -glm::normalize(l.direction));
+          char line[400];
+          std::snprintf(
+              line, sizeof line,
+              "The sun where those rays land (Embree's hits facing it, %zu): lit on the "
+              "triangles %.1f%%; of those, shadowed through our stack %.1f%%; of the "
+              "shadowed ones, lit through our stack %.1f%%.\n",
+              sa.facing, 100.0 * double(sa.sunlit) / double(std::max<std::size_t>(1, sa.facing)),
+              100.0 * double(sa.lost) / double(std::max<std::size_t>(1, sa.sunlit)),
+              100.0 * double(sa.gained) / double(std::max<std::size_t>(1, sa.facing - sa.sunlit)));
+          std::printf("    diagnose: %s", line);
+          nearText += std::string("\n") + line;
+        }
       }
     }
     std::printf(
