@@ -179,9 +179,13 @@ SunAgreement diagnoseSunVisibility(const PeerInputs& in, const PeerRays& rays,
         break;
       }
     }
+    // The light cache starts half a voxel off the SDF's surface, which lies half a LOD-0 voxel
+    // off an open sheet's triangles (mesh_to_sdf.h) and, in a coarser cascade, about one of its
+    // voxels proud (the min-filter chain): from the triangle, one voxel in cascade 0 and two in
+    // coarser ones.
     const float voxel = img.params[c].offsetScale.w;
     gpu_shared::TraceRay r;
-    r.originTMin = glm::vec4(p0 + points[k].normal * (0.5f * voxel), 0.0f);
+    r.originTMin = glm::vec4(p0 + points[k].normal * ((c == 0 ? 1.0f : 2.0f) * voxel), 0.0f);
     r.dirTMax = glm::vec4(toSun, 1e9f);
     shadow.push_back(r);
     first.push_back(c);

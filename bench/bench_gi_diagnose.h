@@ -49,8 +49,10 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);
 
 // The sun's visibility where the probe rays land, ours against Embree's: at each Embree hit
 // (its normal turned towards the ray), a shadow ray towards the sun on the triangles, and one
-// through the stack from half a voxel of the finest cascade holding the point off the surface,
-// as the light cache casts it (unbounded: the sun is beyond the stack).
+// through the stack from where the light cache would start it: half a voxel of the finest
+// cascade holding the point off the SDF's surface, taken as one voxel off the triangle in cascade
+// 0 and two in coarser cascades (an open sheet's half-voxel shell; the coarse min-filter's
+// dilation). Unbounded: the sun is beyond the stack.
 struct SunAgreement {
   std::size_t facing = 0;  // hits facing the sun
   std::size_t sunlit = 0;  // of those, lit on the triangles
