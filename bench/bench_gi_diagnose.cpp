@@ -52,6 +52,34 @@ std::string row(const std::string& label, const RayAgreement& r) {
   return s;
 }
 
+// Every ray traced through the stack starting in its own cascade first[i] (one dispatch per
+// cascade), results in the rays' order.
+std::vector<gpu_shared::TraceHit> traceFromCascades(const PeerInputs& in,
+                                                    std::span<const gpu_shared::TraceRay> rays,
+                                                    std::span<const std::uint32_t> first) {
+  std::vector<gpu_shared::TraceHit> out(rays.size());
+  std::uint32_t cascades = 0;
+  for (std::uint32_t c : first) cascades = std::max(cascades, c + 1);
+  GpuStackTracer tracer(*in.context, *in.stack);
+  tracer.sync(*in.stack, in.allSlots);
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    std::vector<gpu_shared::TraceRay> batch;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < rays.size(); ++i)
+      if (first[i] == c) {
+        batch.push_back(rays[i]);
+        index.push_back(i);
+      }
+    if (batch.empty()) continue;
+    TraceSettings settings;
+    settings.maxSteps = in.maxSteps;
+    settings.hitEpsilon = in.hitEpsilon;
+    settings.firstCascade = c;
+    const std::vector<gpu_shared::TraceHit> hits = tracer.trace(batch, settings);
+    for (std::size_t k = 0; k < hits.size(); ++k) out[index[k]] = hits[k];
+  }
+  return out;
+}
 }  // namespace
 
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) {
@@ -73,34 +101,18 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
         });
   });
   // Ours as the probes trace: each cascade's rays start in that cascade.
-  std::uint32_t cascades = 0;
-  for (std::uint32_t c : rays.cascade) cascades = std::max(cascades, c + 1);
-  GpuStackTracer tracer(*in.context, *in.stack);
-  tracer.sync(*in.stack, in.allSlots);
-  for (std::uint32_t c = 0; c < cascades; ++c) {
-    std::vector<gpu_shared::TraceRay> batch;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < n; ++i)
-      if (rays.cascade[i] == c) {
-        batch.push_back(rays.stack[i]);
-        index.push_back(i);
-      }
-    TraceSettings settings;
-    settings.maxSteps = in.maxSteps;
-    settings.hitEpsilon = in.hitEpsilon;
-    settings.firstCascade = c;
-    const std::vector<gpu_shared::TraceHit> hits = tracer.trace(batch, settings);
-    for (std::size_t k = 0; k < hits.size(); ++k) {
-      const std::size_t i = index[k];
-      endCascade[i] = (hits[k].flags >> gpu_shared::kHitCascadeShift) & 15u;
-      if (hits[k].flags & gpu_shared::kHitFlagHit) {
-        tOurs[i] = float(double(hits[k].normalT.w) * in.voxelSize);
-        const std::uint32_t a = hits[k].albedo;
-        const glm::vec3 srgb(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u));
-        aOurs[i] = luminance(reference::srgbToLinear(srgb / 255.0f));
-      }
+  const std::vector<gpu_shared::TraceHit> hits = traceFromCascades(in, rays.stack, rays.cascade);
+  for (std::size_t i = 0; i < n; ++i) {
+    endCascade[i] = (hits[i].flags >> gpu_shared::kHitCascadeShift) & 15u;
+    if (hits[i].flags & gpu_shared::kHitFlagHit) {
+      tOurs[i] = float(double(hits[i].normalT.w) * in.voxelSize);
+      const std::uint32_t a = hits[i].albedo;
+      const glm::vec3 srgb(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u));
+      aOurs[i] = luminance(reference::srgbToLinear(srgb / 255.0f));
     }
   }
+  std::uint32_t cascades = 0;
+  for (std::uint32_t c : rays.cascade) cascades = std::max(cascades, c + 1);
   ProbeRayDiagnosis d;
   std::uint32_t stackCascades = 0;
   for (std::uint32_t c : endCascade) stackCascades = std::max(stackCascades, c + 1);
@@ -192,32 +204,16 @@ SunAgreement diagnoseSunVisibility(const PeerInputs& in, const PeerRays& rays,
     index.push_back(k);
   }
   SunAgreement a;
-  GpuStackTracer tracer(*in.context, *in.stack);
-  tracer.sync(*in.stack, in.allSlots);
-  for (std::uint32_t c = 0; c < cascades; ++c) {
-    std::vector<gpu_shared::TraceRay> batch;
-    std::vector<std::size_t> which;
-    for (std::size_t j = 0; j < shadow.size(); ++j)
-      if (first[j] == c) {
-        batch.push_back(shadow[j]);
-        which.push_back(index[j]);
-      }
-    if (batch.empty()) continue;
-    TraceSettings settings;
-    settings.maxSteps = in.maxSteps;
-    settings.hitEpsilon = in.hitEpsilon;
-    settings.firstCascade = c;
-    const std::vector<gpu_shared::TraceHit> hits = tracer.trace(batch, settings);
-    for (std::size_t j = 0; j < hits.size(); ++j) {
-      // Out of steps counts as blocked, as the light cache counts it.
-      const bool oursLit =
-          (hits[j].flags & (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
-      const bool lit = points[which[j]].lit;
-      ++a.facing;
-      a.sunlit += lit;
-      a.lost += lit && !oursLit;
-      a.gained += !lit && oursLit;
-    }
+  const std::vector<gpu_shared::TraceHit> hits = traceFromCascades(in, shadow, first);
+  for (std::size_t j = 0; j < hits.size(); ++j) {
+    // Out of steps counts as blocked, as the light cache counts it.
+    const bool oursLit =
+        (hits[j].flags & (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
+    const bool lit = points[index[j]].lit;
+    ++a.facing;
+    a.sunlit += lit;
+    a.lost += lit && !oursLit;
+    a.gained += !lit && oursLit;
   }
   return a;
 }

@@ -196,11 +196,9 @@ class ConfigRun {
     return e;
   }
 
-  // The traversal peers on this frame's probe rays.
-  void runPeersOnProbeRays(SceneReport& into) {
-    const CascadeStackImage img = st_.stack->stackImage();
-    const PeerRays rays = probeRaySet(gi_, img, cfg_.probes, in_, frame_);
-    EmbreeScene embree(*sc_.scene.triangles);
+  // What the peers and the ray diagnosis share: this run's stack, the scene, the traversal's
+  // settings.
+  PeerInputs peerInputs(const EmbreeScene& embree) const {
     PeerInputs pi;
     pi.context = &sc_.ctx;
     pi.stack = st_.stack.get();
@@ -210,6 +208,15 @@ class ConfigRun {
     pi.voxelSize = sc_.scene.voxelSize;
     pi.maxSteps = cfg_.probes.maxSteps;
     pi.hitEpsilon = cfg_.probes.hitEpsilon;
+    return pi;
+  }
+
+  // The traversal peers on this frame's probe rays.
+  void runPeersOnProbeRays(SceneReport& into) {
+    const CascadeStackImage img = st_.stack->stackImage();
+    const PeerRays rays = probeRaySet(gi_, img, cfg_.probes, in_, frame_);
+    EmbreeScene embree(*sc_.scene.triangles);
+    PeerInputs pi = peerInputs(embree);
     pi.runs = sc_.opt.quick ? 2 : 3;
     std::printf("    peers on %zu probe rays of frame %llu (%s)\n", rays.origin.size(),
                 (unsigned long long)frame_, cfg_.name.c_str());
@@ -227,15 +234,7 @@ class ConfigRun {
     const CascadeStackImage img = st_.stack->stackImage();
     const PeerRays rays = probeRaySet(gi_, img, cfg_.probes, in_, frame_);
     EmbreeScene embree(*sc_.scene.triangles);
-    PeerInputs pi;
-    pi.context = &sc_.ctx;
-    pi.stack = st_.stack.get();
-    pi.allSlots = st_.allSlots;
-    pi.embree = &embree;
-    pi.triangles = sc_.scene.triangles.get();
-    pi.voxelSize = sc_.scene.voxelSize;
-    pi.maxSteps = cfg_.probes.maxSteps;
-    pi.hitEpsilon = cfg_.probes.hitEpsilon;
+    const PeerInputs pi = peerInputs(embree);
     const ProbeRayDiagnosis d = diagnoseProbeRays(pi, rays);
     std::string nearText;
     // The same for the rays of the probes the receivers use (their cages in their sampling
