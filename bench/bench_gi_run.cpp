@@ -28,22 +28,18 @@ double bufferMiB(std::initializer_list<const gpu::Buffer*> buffers) {
   return bytes / double(1 << 20);
 }
 
-// Probe rays of one frame of `gi` (every probe that is not off, raysPerProbe rays each, this
-// frame's rotation), in both frames, bounded by the coarsest cascade's window.
-PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
-                     const probe::ProbeFieldSettings& s, const probe::ProbeFrameInputs& in,
-                     std::uint64_t frame) {
-  probe::ProbeFieldFrameBuilder builder(s);
-  const probe::ProbeFieldFrame f = builder.build(img, in, frame);
+// Every probe of `gi` that is not off, at its relocated position (cascade-0 voxels), with its
+// cascade and logical grid index.
+struct LiveProbe {
+  glm::vec3 stack;
+  std::uint32_t cascade, cell;
+};
+std::vector<LiveProbe> liveProbes(const GiSystem& gi, const probe::ProbeFieldFrame& f,
+                                  std::uint32_t perVolume) {
   const std::vector<glm::vec4> data = gi.probes().downloadProbeData();
-  const std::uint32_t perVolume = s.probesPerVolume(), n = s.raysPerProbe;
-  const gpu_shared::CascadeTraceParams& last = img.params.back();
-  const glm::vec3 lo(last.offsetScale), hi = lo + glm::vec3(128.0f * last.offsetScale.w);
-  PeerRays r;
+  std::vector<LiveProbe> out;
   for (std::size_t c = 0; c < f.volumes.size(); ++c) {
     const gpu_shared::ProbeVolume& v = f.volumes[c];
-    const glm::mat3 rot(glm::vec3(v.rayRotationCol0), glm::vec3(v.rayRotationCol1),
-                        glm::vec3(v.rayRotationCol2));
     const glm::ivec3 counts(v.countsRays);
     for (std::uint32_t st = 0; st < perVolume; ++st) {
       const glm::vec4 d = data[c * perVolume + st];
@@ -51,28 +47,49 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
       const glm::ivec3 storage(int(st % counts.x), int(st / counts.x % counts.y),
                                int(st / (counts.x * counts.y)));
       const glm::ivec3 logical = (storage - glm::ivec3(v.scroll) + counts) % counts;
-      const glm::vec3 o =
-          glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d);
-      for (std::uint32_t i = 0; i < n; ++i) {
-        const glm::vec3 dir = probe::rayDirection(i, n, rot);
-        // Exit of the coarsest window (all peers get the same bound).
-        float tExit = 1e30f;
-        for (int a = 0; a < 3; ++a) {
-          if (std::abs(dir[a]) < 1e-12f) continue;
-          const float t = ((dir[a] > 0.0f ? hi[a] : lo[a]) - o[a]) / dir[a];
-          tExit = std::min(tExit, std::max(t, 0.0f));
-        }
-        gpu_shared::TraceRay tr;
-        tr.originTMin = glm::vec4(o, 0.0f);
-        tr.dirTMax = glm::vec4(dir, tExit);
-        r.stack.push_back(tr);
-        r.origin.push_back(glm::vec3(img.cascade0MinWorld + glm::dvec3(o) * img.voxelSize0));
-        r.direction.push_back(dir);
-        r.tMax.push_back(float(double(tExit) * img.voxelSize0));
-        r.cascade.push_back(std::uint32_t(c));
-        r.probeCell.push_back(
-            std::uint32_t(logical.x + counts.x * (logical.y + counts.y * logical.z)));
+      out.push_back(
+          {glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d),
+           std::uint32_t(c),
+           std::uint32_t(logical.x + counts.x * (logical.y + counts.y * logical.z))});
+    }
+  }
+  return out;
+}
+
+// Probe rays of one frame of `gi` (every probe that is not off, raysPerProbe rays each, this
+// frame's rotation), in both frames, bounded by the coarsest cascade's window.
+PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
+                     const probe::ProbeFieldSettings& s, const probe::ProbeFrameInputs& in,
+                     std::uint64_t frame) {
+  probe::ProbeFieldFrameBuilder builder(s);
+  const probe::ProbeFieldFrame f = builder.build(img, in, frame);
+  const std::uint32_t perVolume = s.probesPerVolume(), n = s.raysPerProbe;
+  const gpu_shared::CascadeTraceParams& last = img.params.back();
+  const glm::vec3 lo(last.offsetScale), hi = lo + glm::vec3(128.0f * last.offsetScale.w);
+  PeerRays r;
+  for (const LiveProbe& p : liveProbes(gi, f, perVolume)) {
+    const gpu_shared::ProbeVolume& v = f.volumes[p.cascade];
+    const glm::mat3 rot(glm::vec3(v.rayRotationCol0), glm::vec3(v.rayRotationCol1),
+                        glm::vec3(v.rayRotationCol2));
+    const glm::vec3 o = p.stack;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const glm::vec3 dir = probe::rayDirection(i, n, rot);
+      // Exit of the coarsest window (all peers get the same bound).
+      float tExit = 1e30f;
+      for (int a = 0; a < 3; ++a) {
+        if (std::abs(dir[a]) < 1e-12f) continue;
+        const float t = ((dir[a] > 0.0f ? hi[a] : lo[a]) - o[a]) / dir[a];
+        tExit = std::min(tExit, std::max(t, 0.0f));
       }
+      gpu_shared::TraceRay tr;
+      tr.originTMin = glm::vec4(o, 0.0f);
+      tr.dirTMax = glm::vec4(dir, tExit);
+      r.stack.push_back(tr);
+      r.origin.push_back(glm::vec3(img.cascade0MinWorld + glm::dvec3(o) * img.voxelSize0));
+      r.direction.push_back(dir);
+      r.tMax.push_back(float(double(tExit) * img.voxelSize0));
+      r.cascade.push_back(p.cascade);
+      r.probeCell.push_back(p.cell);
     }
   }
   return r;
@@ -416,27 +433,7 @@ class ConfigRun {
     const CascadeStackImage img = st_.stack->stackImage();
     probe::ProbeFieldFrameBuilder builder(cfg_.probes);
     const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
-    const std::vector<glm::vec4> data = gi_.probes().downloadProbeData();
-    const std::uint32_t perVolume = cfg_.probes.probesPerVolume();
-    struct At {
-      glm::vec3 stack;
-      std::uint32_t cascade;
-    };
-    std::vector<At> live;
-    for (std::size_t c = 0; c < f.volumes.size(); ++c) {
-      const gpu_shared::ProbeVolume& v = f.volumes[c];
-      const glm::ivec3 counts(v.countsRays);
-      for (std::uint32_t st = 0; st < perVolume; ++st) {
-        const glm::vec4 d = data[c * perVolume + st];
-        if (std::uint32_t(d.w) == gpu_shared::kProbeOff) continue;
-        const glm::ivec3 storage(int(st % counts.x), int(st / counts.x % counts.y),
-                                 int(st / (counts.x * counts.y)));
-        const glm::ivec3 logical = (storage - glm::ivec3(v.scroll) + counts) % counts;
-        live.push_back(
-            {glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d),
-             std::uint32_t(c)});
-      }
-    }
+    const std::vector<LiveProbe> live = liveProbes(gi_, f, cfg_.probes.probesPerVolume());
     const std::size_t stride = std::max<std::size_t>(1, live.size() / 512);
     const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     std::vector<gpu_shared::ProbeQuery> queries;
