@@ -27,7 +27,7 @@ constexpr const char* kHelp =
     "usage: sdfstream bench gi [--quick] [--scenes a,b,...] [--out DIR] [--data DIR]\n"
     "                          [--large-world PACK] [--width W --height H] [--samples N]\n"
     "                          [--frames N] [--measure N] [--no-peers] [--gpu-table]\n"
-    "                          [--device NAME]\n"
+    "                          [--diagnose] [--device NAME]\n"
     "\n"
     "Run time vs error of the probe GI (issue 6). For each scene: import its triangles to a\n"
     "world pack (cached in DIR/packs), stream cascade stacks around the player, path-trace the\n"
@@ -45,9 +45,9 @@ constexpr const char* kHelp =
     "  --quick        Cornell box + one small scene (Breakfast Room, else the bunny), a reduced\n"
     "                 sweep, 96x72 views, 256 reference paths, fewer frames (<= 10 min on 2 "
     "cores)\n"
-    "  --scenes LIST  cornell-box,sponza,breakfast-room,courtyard,bunny,large-world (default: "
-    "all;\n"
-    "                 missing data is skipped with a message)\n"
+    "  --scenes LIST  of cornell-box,sponza,breakfast-room,courtyard,courtyard-sun,bunny,\n"
+    "                 large-world (default: cornell-box,sponza,breakfast-room,courtyard,\n"
+    "                 large-world; missing data is skipped with a message)\n"
     "  --out DIR      default out/bench-gi        --data DIR  default ../shared/data\n"
     "  --large-world  default out/worlds/large-4km (a pack; skipped when absent)\n"
     "  --frames N     warm-up frames per configuration (default 32, quick 8)\n"
@@ -107,7 +107,8 @@ int runBenchGi(int argc, char** argv) {
       throw InputError(
           InputErrorKind::Usage, "command line",
           "unknown scene '" + name +
-              "' (cornell-box, sponza, breakfast-room, courtyard, large-world, bunny)");
+              "' (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, large-world, "
+              "bunny)");
   const auto device = deviceFromArgs(args);
   if (!device)
     throw InputError(InputErrorKind::Usage, "command line", "bench gi needs a GPU (no --cpu)");
