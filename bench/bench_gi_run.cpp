@@ -228,6 +228,24 @@ class ConfigRun {
     return pi;
   }
 
+  // The reference irradiance (NoDirectLights, cached with the scene's) at world points.
+  std::vector<glm::vec3> referenceAt(std::span<const glm::vec3> positions,
+                                     std::span<const glm::vec3> normals) const {
+    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+    std::vector<glm::vec3> out;
+    for (const auto& x :
+         reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,
+                                     sc_.opt.samples, reference::IrradianceKind::NoDirectLights))
+      out.push_back(x.mean);
+    return out;
+  }
+
+  // This frame's probe volumes as the passes see them (grids, spacings, scroll).
+  probe::ProbeFieldFrame frameConstants(const CascadeStackImage& img) const {
+    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
+    return builder.build(img, in_, frame_);
+  }
+
   // The traversal peers on this frame's probe rays.
   void runPeersOnProbeRays(SceneReport& into) {
     const CascadeStackImage img = st_.stack->stackImage();
@@ -257,8 +275,7 @@ class ConfigRun {
     // The same for the rays of the probes the receivers use (their cages in their sampling
     // cascade): the light a receiver gets comes through these.
     {
-      probe::ProbeFieldFrameBuilder builder(cfg_.probes);
-      const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+      const probe::ProbeFieldFrame f = frameConstants(img);
       const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
       std::vector<std::vector<char>> cage(f.volumes.size());
       for (std::size_t c = 0; c < f.volumes.size(); ++c)
@@ -335,8 +352,7 @@ class ConfigRun {
   void diagnoseAwayFromSurfaces(SceneReport& into) {
     if (sc_.points.reference.empty()) return;
     const CascadeStackImage img = st_.stack->stackImage();
-    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
-    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const probe::ProbeFieldFrame f = frameConstants(img);
     const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
     const std::size_t stride = std::max<std::size_t>(1, sc_.queries.size() / 4096);
     EmbreeScene embree(*sc_.scene.triangles);
@@ -361,15 +377,12 @@ class ConfigRun {
     }
     if (moved.empty()) return;
     const std::vector<glm::vec3> e = gi_.irradiance(moved);
-    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
-    const auto ref =
-        reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,
-                                    sc_.opt.samples, reference::IrradianceKind::NoDirectLights);
+    const std::vector<glm::vec3> ref = referenceAt(positions, normals);
     const std::vector<glm::vec3> atSurface = gi_.irradiance(sc_.queries);
     double giAway = 0, refAway = 0, giHere = 0, refHere = 0;
     for (std::size_t k = 0; k < e.size(); ++k) {
       giAway += luminance(e[k]);
-      refAway += luminance(ref[k].mean);
+      refAway += luminance(ref[k]);
       giHere += luminance(atSurface[source[k]]);
       refHere += luminance(sc_.points.reference[source[k]]);
     }
@@ -390,8 +403,7 @@ class ConfigRun {
     const std::vector<glm::vec3>& ref = sc_.points.reference;
     if (ref.empty() || cfg_.cascades < 2) return;
     const CascadeStackImage img = st_.stack->stackImage();
-    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
-    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const probe::ProbeFieldFrame f = frameConstants(img);
     const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
     const std::size_t n = f.volumes.size();
     std::vector<std::vector<double>> gi(n, std::vector<double>(n, 0.0));
@@ -431,8 +443,7 @@ class ConfigRun {
   // what the probes gather.
   void diagnoseProbeIrradiance(SceneReport& into) {
     const CascadeStackImage img = st_.stack->stackImage();
-    probe::ProbeFieldFrameBuilder builder(cfg_.probes);
-    const probe::ProbeFieldFrame f = builder.build(img, in_, frame_);
+    const probe::ProbeFieldFrame f = frameConstants(img);
     const std::vector<LiveProbe> live = liveProbes(gi_, f, cfg_.probes.probesPerVolume());
     const std::size_t stride = std::max<std::size_t>(1, live.size() / 512);
     const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -449,15 +460,12 @@ class ConfigRun {
       }
     if (queries.empty()) return;
     const std::vector<glm::vec3> gi = gi_.irradiance(queries);
-    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
-    const auto ref =
-        reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,
-                                    sc_.opt.samples, reference::IrradianceKind::NoDirectLights);
+    const std::vector<glm::vec3> ref = referenceAt(positions, normals);
     std::vector<double> sumGi(f.volumes.size(), 0.0), sumRef(f.volumes.size(), 0.0);
     std::vector<std::size_t> n(f.volumes.size(), 0);
     for (std::size_t i = 0; i < gi.size(); ++i) {
       sumGi[cascadeOf[i]] += luminance(gi[i]);
-      sumRef[cascadeOf[i]] += luminance(ref[i].mean);
+      sumRef[cascadeOf[i]] += luminance(ref[i]);
       ++n[cascadeOf[i]];
     }
     std::string s =

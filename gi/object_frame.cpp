@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -101,7 +100,6 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
   constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
   const std::size_t boxes = out.changedBoxes.size();
   out.movedRegions = 0;
-  out.wakeSubCells = 0;
   if (boxes == 0 || cascades == 0) return;
   const float invSqrtChange =
       1.0f / std::sqrt(std::clamp(settings.wakeIrradianceChange, 1e-4f, 1.0f));
@@ -126,7 +124,7 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       }
                     });
   const int slabs = int(gs::kRegionsPerAxis);
-  std::atomic<std::uint32_t> movedRegions{0}, wakeSubCells{0};
+  std::atomic<std::uint32_t> movedRegions{0};
   tbb::parallel_for(
       tbb::blocked_range<int>(0, int(cascades) * slabs, 1),
       [&](const tbb::blocked_range<int>& tasks) {
@@ -150,19 +148,13 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                   region.moved = 1u;
                 }
           }
-          // The task's own regions (slab z of cascade c), now final: count them for the stats.
-          std::uint32_t moved = 0, bits = 0;
-          for (int r = zLo / 8 * 64; r < zLo / 8 * 64 + 64; ++r) {
-            if (regions[r].moved == 0) continue;
-            moved += 1;
-            for (std::uint32_t w : regions[r].wake) bits += std::uint32_t(std::popcount(w));
-          }
+          // The task's own regions (slab z of cascade c), now final: count the moved ones.
+          std::uint32_t moved = 0;
+          for (int r = zLo / 8 * 64; r < zLo / 8 * 64 + 64; ++r) moved += regions[r].moved;
           movedRegions += moved;
-          wakeSubCells += bits;
         }
       });
   out.movedRegions = movedRegions;
-  out.wakeSubCells = wakeSubCells;
 }
 }  // namespace
 

@@ -52,7 +52,6 @@ struct ObjectFrameData {
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
   std::uint32_t movedInstances = 0;
   std::uint32_t movedRegions = 0;  // regions with a wake bit (removals included)
-  std::uint32_t wakeSubCells = 0;  // wake bits set, all region cascades
   // InstanceSet::changedBounds of the frame (world space; each changed instance's start and end
   // boxes as one): the light cache relights the pages they shadow, and probes near them wake.
   std::vector<WorldBox> changedBoxes;
