@@ -152,7 +152,7 @@ void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<gl
   one.probes.bounceGain = 0.0f;
   one.converge = false;
   std::vector<glm::vec3> e1;
-  runConfig(sc, one, &e1, nullptr);
+  runConfig(sc, one, &e1, nullptr, &rep);
   const ViewPoints& p = sc.points;
   double gi1 = 0, giAll = 0, ref1 = 0, refAll = 0;
   for (std::size_t i = 0; i < e1.size(); ++i) {

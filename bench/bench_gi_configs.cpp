@@ -23,6 +23,7 @@ ProbeFieldSettings plainDdgi() {
   s.states = false;
   s.hitCache = false;
   s.visibility = ProbeFieldSettings::Visibility::Chebyshev;
+  s.irradianceGamma = gpu_shared::kProbeIrradianceGamma;  // as published (M21 Sec. 4.2)
   return s;
 }
 
@@ -77,11 +78,14 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     add(prefix + "vis-chebyshev", "ours", "visibility chebyshev", s, cascades, !quick);
     s.visibility = ProbeFieldSettings::Visibility::Sdf;
     add(prefix + "vis-sdf", "ours", "visibility sdf", s, cascades, !quick);
-    // The perceptual encoding blends in irradiance^(1/5): for estimates that vary from frame to
+    // M21's perceptual encoding blends irradiance^(1/5): for estimates that vary from frame to
     // frame (a few rays seeing a bright patch) that mean is far below the mean of the values.
     s = base;
-    s.irradianceGamma = 1.0f;
-    add(prefix + "gamma-1", "ours", "irradiance blended linearly (gamma 1)", s, cascades, !quick);
+    s.irradianceGamma = gpu_shared::kProbeIrradianceGamma;
+    add(prefix + "gamma-5", "ours", "irradiance blended as E^(1/5) (M21)", s, cascades, !quick);
+    s = base;
+    s.backfacesBlack = true;
+    add(prefix + "backfaces-black", "ours", "backface rays blended as black", s, cascades, !quick);
     if (quick)
       for (GiConfig& c : out)
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";

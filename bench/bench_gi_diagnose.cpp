@@ -16,8 +16,10 @@ namespace sdfstream::bench {
 namespace {
 
 // Adds one ray (t in metres, negative = escaped) to a row.
-void count(RayAgreement& row, std::vector<double>& dt, float ours, float embree, double voxel) {
+void count(RayAgreement& row, std::vector<double>& dt, float ours, float embree, bool backface,
+           double voxel) {
   ++row.rays;
+  row.backfaces += backface;
   const bool a = ours >= 0.0f, b = embree >= 0.0f;
   row.embreeHits += b;
   if (a && !b) ++row.closed;
@@ -44,11 +46,12 @@ std::string percent(std::size_t part, std::size_t whole) {
 }
 
 std::string row(const std::string& label, const RayAgreement& r) {
-  char s[256];
-  std::snprintf(s, sizeof s, "| %s | %zu | %s | %s | %s | %s | %s | %.2f | %.2f |\n", label.c_str(),
-                r.rays, percent(r.embreeHits, r.rays).c_str(), percent(r.closed, r.rays).c_str(),
-                percent(r.early, r.rays).c_str(), percent(r.late, r.rays).c_str(),
-                percent(r.leaks, r.rays).c_str(), r.medianAbsDtVoxels, r.p90AbsDtVoxels);
+  char s[300];
+  std::snprintf(s, sizeof s, "| %s | %zu | %s | %s | %s | %s | %s | %s | %.2f | %.2f |\n",
+                label.c_str(), r.rays, percent(r.embreeHits, r.rays).c_str(),
+                percent(r.closed, r.rays).c_str(), percent(r.early, r.rays).c_str(),
+                percent(r.late, r.rays).c_str(), percent(r.leaks, r.rays).c_str(),
+                percent(r.backfaces, r.rays).c_str(), r.medianAbsDtVoxels, r.p90AbsDtVoxels);
   return s;
 }
 
@@ -86,6 +89,7 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
   const std::size_t n = rays.origin.size();
   std::vector<float> tEmbree(n, -1.0f), tOurs(n, -1.0f), aEmbree(n, 0.0f), aOurs(n, 0.0f);
   std::vector<std::uint32_t> endCascade(n, 0);
+  std::vector<char> backface(n, 0);
   tbb::task_arena arena(in.threads);
   arena.execute([&] {
     tbb::parallel_for(
@@ -106,6 +110,7 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
     endCascade[i] = (hits[i].flags >> gpu_shared::kHitCascadeShift) & 15u;
     if (hits[i].flags & gpu_shared::kHitFlagHit) {
       tOurs[i] = float(double(hits[i].normalT.w) * in.voxelSize);
+      backface[i] = glm::dot(glm::vec3(hits[i].normalT), rays.direction[i]) > 0.0f;
       const std::uint32_t a = hits[i].albedo;
       const glm::vec3 srgb(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u));
       aOurs[i] = luminance(reference::srgbToLinear(srgb / 255.0f));
@@ -121,8 +126,9 @@ ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) 
   std::vector<double> dtAll;
   std::size_t skyOurs = 0, skyEmbree = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    count(d.byCascade[endCascade[i]], dt[endCascade[i]], tOurs[i], tEmbree[i], in.voxelSize);
-    count(d.all, dtAll, tOurs[i], tEmbree[i], in.voxelSize);
+    count(d.byCascade[endCascade[i]], dt[endCascade[i]], tOurs[i], tEmbree[i], backface[i],
+          in.voxelSize);
+    count(d.all, dtAll, tOurs[i], tEmbree[i], backface[i], in.voxelSize);
     skyOurs += tOurs[i] < 0.0f;
     skyEmbree += tEmbree[i] < 0.0f;
     if (tOurs[i] >= 0.0f && tEmbree[i] >= 0.0f &&
@@ -250,9 +256,10 @@ std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades) 
       "more than " +
       std::string(early) +
       " LOD-0 voxels before / after Embree's; *leak*: we escape where the triangles block; "
-      "|Δt| in LOD-0 voxels over rays both hit.\n\n"
-      "| ends in cascade | rays | Embree hits | closed | early | late | leak | median |Δt| | "
-      "p90 |Δt| |\n|---|---|---|---|---|---|---|---|---|\n";
+      "*backface*: we hit a surface whose SDF gradient faces along the ray (the probe sees the "
+      "inside of geometry); |Δt| in LOD-0 voxels over rays both hit.\n\n"
+      "| ends in cascade | rays | Embree hits | closed | early | late | leak | backface | median "
+      "|Δt| | p90 |Δt| |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t c = 0; c < d.byCascade.size() && c < std::max<std::size_t>(cascades, 1); ++c)
     s += row(std::to_string(c), d.byCascade[c]);
   s += row("all", d.all);

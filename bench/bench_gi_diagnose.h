@@ -29,6 +29,7 @@ struct RayAgreement {
   std::size_t early = 0;       // both hit, ours more than kEarlyVoxels before Embree's
   std::size_t late = 0;        // both hit, ours more than kEarlyVoxels after Embree's
   std::size_t leaks = 0;       // we escape (or run out of steps), the triangles block it
+  std::size_t backfaces = 0;   // we hit a surface whose SDF gradient faces along the ray
   double medianAbsDtVoxels = 0.0, p90AbsDtVoxels = 0.0;  // over rays both hit, LOD-0 voxels
 };
 

@@ -1,21 +1,30 @@
 #include "bench/bench_gi_run.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <set>
 #include <span>
 #include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "bench/bench_gi_diagnose.h"
 #include "core/stats.h"
 #include "core/stopwatch.h"
 #include "demo/frame_image.h"
 #include "gi/gi_system.h"
+#include "gi/light_cache.h"
 #include "gi/probe_math.h"
+#include "gi/scene_lights.h"
 #include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
 #include "reference/path_tracer.h"
+#include "world/triangle_scene.h"
 
 namespace sdfstream::bench {
 namespace {
@@ -28,32 +37,67 @@ double bufferMiB(std::initializer_list<const gpu::Buffer*> buffers) {
   return bytes / double(1 << 20);
 }
 
-// Every probe of `gi` that is not off, at its relocated position (cascade-0 voxels), with its
-// cascade and logical grid index.
+// A probe at its relocated position (cascade-0 voxels), with its cascade and logical grid index.
 struct LiveProbe {
   glm::vec3 stack;
   std::uint32_t cascade, cell;
 };
+
+// Global probe g (cascade * perVolume + storage index) of frame f, its data d (offset, state).
+LiveProbe probeAt(const probe::ProbeFieldFrame& f, std::uint32_t perVolume, std::uint32_t g,
+                  glm::vec4 d) {
+  const std::uint32_t c = g / perVolume, st = g % perVolume;
+  const gpu_shared::ProbeVolume& v = f.volumes[c];
+  const glm::ivec3 counts(v.countsRays);
+  const glm::ivec3 storage(int(st % counts.x), int(st / counts.x % counts.y),
+                           int(st / (counts.x * counts.y)));
+  const glm::ivec3 logical = (storage - glm::ivec3(v.scroll) + counts) % counts;
+  return {glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d), c,
+          std::uint32_t(logical.x + counts.x * (logical.y + counts.y * logical.z))};
+}
+
+// Every probe of `gi` that is not off.
 std::vector<LiveProbe> liveProbes(const GiSystem& gi, const probe::ProbeFieldFrame& f,
                                   std::uint32_t perVolume) {
   const std::vector<glm::vec4> data = gi.probes().downloadProbeData();
   std::vector<LiveProbe> out;
-  for (std::size_t c = 0; c < f.volumes.size(); ++c) {
-    const gpu_shared::ProbeVolume& v = f.volumes[c];
+  for (std::uint32_t g = 0; g < std::uint32_t(f.volumes.size()) * perVolume; ++g)
+    if (std::uint32_t(data[g].w) != gpu_shared::kProbeOff)
+      out.push_back(probeAt(f, perVolume, g, data[g]));
+  return out;
+}
+
+// The probes of the receivers' cages (the 8 grid corners around each query in the cascade it is
+// sampled from), as cascade * perVolume + logical cell.
+std::set<std::uint32_t> cageProbes(const probe::ProbeFieldFrame& f, std::uint32_t perVolume,
+                                   std::span<const gpu_shared::ProbeQuery> queries) {
+  const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, queries);
+  std::set<std::uint32_t> out;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const gpu_shared::ProbeVolume& v = f.volumes[picks[i]];
     const glm::ivec3 counts(v.countsRays);
-    for (std::uint32_t st = 0; st < perVolume; ++st) {
-      const glm::vec4 d = data[c * perVolume + st];
-      if (std::uint32_t(d.w) == gpu_shared::kProbeOff) continue;
-      const glm::ivec3 storage(int(st % counts.x), int(st / counts.x % counts.y),
-                               int(st / (counts.x * counts.y)));
-      const glm::ivec3 logical = (storage - glm::ivec3(v.scroll) + counts) % counts;
-      out.push_back(
-          {glm::vec3(v.originSpacing) + glm::vec3(logical) * v.originSpacing.w + glm::vec3(d),
-           std::uint32_t(c),
-           std::uint32_t(logical.x + counts.x * (logical.y + counts.y * logical.z))});
+    const glm::ivec3 base = glm::clamp(
+        glm::ivec3(glm::floor((glm::vec3(queries[i].position) - glm::vec3(v.originSpacing)) /
+                              v.originSpacing.w)),
+        glm::ivec3(0), glm::max(counts - 2, glm::ivec3(0)));
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::ivec3 lc =
+          glm::min(base + glm::ivec3(corner & 1, corner >> 1 & 1, corner >> 2 & 1), counts - 1);
+      out.insert(picks[i] * perVolume + std::uint32_t(lc.x + counts.x * (lc.y + counts.y * lc.z)));
     }
   }
   return out;
+}
+
+// Where a ray from o along unit dir leaves the box [lo, hi] (o inside; 0 when it starts outside).
+float boxExit(glm::vec3 lo, glm::vec3 hi, glm::vec3 o, glm::vec3 dir) {
+  float tExit = 1e30f;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(dir[a]) < 1e-12f) continue;
+    const float t = ((dir[a] > 0.0f ? hi[a] : lo[a]) - o[a]) / dir[a];
+    tExit = std::min(tExit, std::max(t, 0.0f));
+  }
+  return tExit;
 }
 
 // Probe rays of one frame of `gi` (every probe that is not off, raysPerProbe rays each, this
@@ -74,13 +118,7 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
     const glm::vec3 o = p.stack;
     for (std::uint32_t i = 0; i < n; ++i) {
       const glm::vec3 dir = probe::rayDirection(i, n, rot);
-      // Exit of the coarsest window (all peers get the same bound).
-      float tExit = 1e30f;
-      for (int a = 0; a < 3; ++a) {
-        if (std::abs(dir[a]) < 1e-12f) continue;
-        const float t = ((dir[a] > 0.0f ? hi[a] : lo[a]) - o[a]) / dir[a];
-        tExit = std::min(tExit, std::max(t, 0.0f));
-      }
+      const float tExit = boxExit(lo, hi, o, dir);  // the coarsest window: every peer's bound
       gpu_shared::TraceRay tr;
       tr.originTMin = glm::vec4(o, 0.0f);
       tr.dirTMax = glm::vec4(dir, tExit);
@@ -333,16 +371,212 @@ class ConfigRun {
       }
     }
     std::printf(
-        "    diagnose: %zu probe rays; closed %.1f%%, early %.1f%%, leak %.1f%%; sky ours "
-        "%.1f%% vs Embree %.1f%%\n",
+        "    diagnose: %zu probe rays; closed %.1f%%, early %.1f%%, leak %.1f%%, backface "
+        "%.1f%%; sky ours %.1f%% vs Embree %.1f%%\n",
         d.all.rays, 100.0 * double(d.all.closed) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * double(d.all.early) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * double(d.all.leaks) / double(std::max<std::size_t>(1, d.all.rays)),
+        100.0 * double(d.all.backfaces) / double(std::max<std::size_t>(1, d.all.rays)),
         100.0 * d.skyOurs, 100.0 * d.skyEmbree);
     into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades)) + nearText;
     diagnoseProbeIrradiance(into);
     diagnoseCascadesAlone(into);
     diagnoseAwayFromSurfaces(into);
+  }
+
+  // --diagnose, on the one-bounce run (bounceGain 0): what each probe ray of one frame brought
+  // back against what the same ray brings back on the triangles: the sky where Embree's ray
+  // escapes the scene (unbounded: what lies beyond the stack is part of what our rays miss),
+  // else emission + albedo/pi x the delta lights (hard shadows) at Embree's hit -- the same
+  // one-bounce transport. Mean luminance over every ray and
+  // over the rays of the receivers' cage probes, split by what both saw.
+  void diagnoseRayRadiance(SceneReport& into) {
+    const GiFrameStats stats = step();
+    const probe::ProbeField::RayRecords rec = gi_.probes().downloadRays(stats.probes.probesUpdated);
+    const CascadeStackImage img = st_.stack->stackImage();
+    const probe::ProbeFieldFrame f = frameConstants(img);
+    const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
+    const std::vector<glm::vec4> data = gi_.probes().downloadProbeData();
+    const std::set<std::uint32_t> cage = cageProbes(f, perVolume, sc_.queries);
+    const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+    const EmbreeScene embree(*sc_.scene.triangles);
+    enum Group { kSkyBoth, kLitBoth, kShadowBoth, kOursOnly, kEmbreeOnly, kGroups };
+    const char* names[kGroups] = {"sky in both", "surface in both, sunlit on the triangles",
+                                  "surface in both, unlit on the triangles",
+                                  "surface in ours only (closed)",
+                                  "surface in Embree's only (leak)"};
+    const gpu_shared::GpuSky gpuSky = toGpu(lights_.sky);
+    const std::size_t rays = rec.results.size();
+    std::vector<float> ours(rays, 0.0f), ref(rays, 0.0f);
+    std::vector<std::uint8_t> group(rays, 0), inCage(rays, 0), cascadeOf(rays, 0);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, rec.list.size(), 16),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t l = r.begin(); l != r.end(); ++l) {
+            const std::uint32_t g = rec.list[l];
+            const LiveProbe p = probeAt(f, perVolume, g, data[g]);
+            const bool cageProbe = cage.count(p.cascade * perVolume + p.cell) > 0;
+            const float maxDepth = f.volumes[p.cascade].blend.z;
+            const glm::vec3 origin(img.cascade0MinWorld + glm::dvec3(p.stack) * img.voxelSize0);
+            for (std::uint32_t k = 0; k < n; ++k) {
+              const std::size_t i = l * n + k;
+              const glm::vec3 dir = glm::normalize(glm::vec3(rec.directions[i]));
+              const auto hit = embree.intersect(origin, dir, 0.0f, 1e30f);
+              glm::vec3 l1;
+              bool lit = false;
+              if (hit) {
+                glm::vec3 nrm = hit->normal;
+                if (glm::dot(nrm, dir) > 0.0f) nrm = -nrm;
+                const glm::vec3 x = origin + dir * hit->t;
+                const glm::vec3 e = tracer.directIrradiance(x, nrm);
+                lit = luminance(e) > 0.0;
+                l1 = sampleEmission(*sc_.scene.triangles, hit->triangle, hit->bary) +
+                     glm::vec3(sampleAlbedo(*sc_.scene.triangles, hit->triangle, hit->bary)) * e *
+                         0.3183098861837907f;
+              } else {
+                l1 = tracer.skyRadianceAlong(dir);
+              }
+              // A miss records the volume's max depth and the sky; a hit beyond that depth records
+              // the max depth too, but not the sky's colour.
+              const glm::vec3 sky = skyRadianceCpu(gpuSky, dir), got(rec.results[i]);
+              const bool oursSky = std::abs(rec.results[i].w) >= 0.999f * maxDepth &&
+                                   glm::length(got - sky) <= 1e-3f * glm::length(sky) + 1e-6f;
+              ours[i] = float(luminance(glm::vec3(rec.results[i])));
+              ref[i] = float(luminance(l1));
+              group[i] = std::uint8_t(oursSky ? (hit ? kEmbreeOnly : kSkyBoth)
+                                              : (!hit  ? kOursOnly
+                                                 : lit ? kLitBoth
+                                                       : kShadowBoth));
+              inCage[i] = cageProbe;
+              cascadeOf[i] = std::uint8_t(p.cascade);
+            }
+          }
+        });
+    // Per cage probe, the six axis irradiances from this frame's rays alone (ours and the same
+    // rays on the triangles, cosine-weighted as the blend weights them) against what the probe
+    // stores (sampled at its position from its own cascade): the frame's estimate against the
+    // temporal blend of many such frames.
+    {
+      const glm::vec3 axes[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                 {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+      std::vector<gpu_shared::ProbeQuery> q;
+      std::vector<double> frameOurs, frameRef;
+      for (std::size_t l = 0; l < rec.list.size(); ++l) {
+        const std::uint32_t g = rec.list[l];
+        const LiveProbe p = probeAt(f, perVolume, g, data[g]);
+        if (!cage.count(p.cascade * perVolume + p.cell)) continue;
+        for (const glm::vec3& a : axes) {
+          double so = 0, sr = 0, sw = 0;
+          for (std::uint32_t k = 0; k < n; ++k) {
+            const std::size_t i = l * n + k;
+            const float c = glm::dot(glm::normalize(glm::vec3(rec.directions[i])), a);
+            if (c <= 0.0f) continue;
+            so += c * ours[i];
+            sr += c * ref[i];
+            sw += c;
+          }
+          if (sw <= 0) continue;
+          frameOurs.push_back(3.14159265 * so / sw);
+          frameRef.push_back(3.14159265 * sr / sw);
+          q.push_back(
+              {glm::vec4(p.stack, float(1 + p.cascade)), glm::vec4(a, 0.0f), glm::vec4(a, 0.0f)});
+        }
+      }
+      if (!q.empty()) {
+        const std::vector<glm::vec3> stored = gi_.irradiance(q);
+        double st = 0, fo = 0, fr = 0;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+          st += luminance(stored[i]);
+          fo += frameOurs[i];
+          fr += frameRef[i];
+        }
+        char row[400];
+        std::snprintf(row, sizeof row,
+                      "\nThe cage probes' irradiance (6 axis normals, %zu): stored %.4g; from this "
+                      "frame's rays alone, ours %.4g and on the triangles %.4g (stored / this "
+                      "frame's ours %.3f: the temporal blend; ours / triangles %.3f: the rays).\n",
+                      q.size(), st / double(q.size()), fo / double(q.size()), fr / double(q.size()),
+                      fo > 0 ? st / fo : 0.0, fr > 0 ? fo / fr : 0.0);
+        std::printf("    diagnose:%s", row + 1);
+        into.diagnosis += row;
+        // By quartile of the stored value: the brightest probes dominate the sums above; a blend
+        // biased low where few rays bring the light shows as stored well below this frame's.
+        std::vector<std::size_t> idx(q.size());
+        for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+        std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+          return luminance(stored[a]) < luminance(stored[b]);
+        });
+        std::string quart =
+            "By quartile of the stored value (darkest first), stored / ours-this-frame / "
+            "triangles:";
+        for (int qi = 0; qi < 4; ++qi) {
+          double a = 0, b = 0, c = 0;
+          for (std::size_t j = idx.size() * qi / 4; j < idx.size() * (qi + 1) / 4; ++j) {
+            a += luminance(stored[idx[j]]);
+            b += frameOurs[idx[j]];
+            c += frameRef[idx[j]];
+          }
+          char cell[120];
+          std::snprintf(cell, sizeof cell, " %.3g / %.3g / %.3g;", a, b, c);
+          quart += cell;
+        }
+        std::printf("    diagnose: %s\n", quart.c_str());
+        into.diagnosis += quart + "\n";
+      }
+    }
+    // Sets: every ray, the cage probes' rays, then the rays of each cascade's probes.
+    const std::size_t sets = 2 + f.volumes.size();
+    std::vector<std::array<double, kGroups>> sumOurs(sets), sumRef(sets);
+    std::vector<std::array<std::size_t, kGroups>> count(sets);
+    for (std::size_t set = 0; set < sets; ++set) {
+      sumOurs[set].fill(0.0);
+      sumRef[set].fill(0.0);
+      count[set].fill(0);
+    }
+    for (std::size_t i = 0; i < rays; ++i)
+      for (std::size_t set : {std::size_t(0), std::size_t(1), 2 + std::size_t(cascadeOf[i])}) {
+        if (set == 1 && !inCage[i]) continue;
+        sumOurs[set][group[i]] += ours[i];
+        sumRef[set][group[i]] += ref[i];
+        ++count[set][group[i]];
+      }
+    std::string s =
+        "\nOne-bounce radiance ray by ray (the bounceGain-0 run, one frame's probe rays): what "
+        "each ray brought back against the same ray on the triangles (sky, or emission + "
+        "albedo/pi x the delta lights with hard shadows at Embree's hit). Mean luminance; share = "
+        "the group's part of the reference's total.\n\n| rays of | what they saw | rays | ours | "
+        "reference | ratio | share of reference |\n|---|---|---|---|---|---|---|\n";
+    for (std::size_t set = 0; set < sets; ++set) {
+      double to = 0, tr = 0;
+      std::size_t tc = 0;
+      for (int gI = 0; gI < kGroups; ++gI) {
+        to += sumOurs[set][gI];
+        tr += sumRef[set][gI];
+        tc += count[set][gI];
+      }
+      const std::string name = set == 0   ? "every updated probe"
+                               : set == 1 ? "the receivers' cage probes"
+                                          : "cascade " + std::to_string(set - 2) + "'s probes";
+      const char* label = name.c_str();
+      if (tc == 0) continue;
+      for (int gI = 0; gI < kGroups; ++gI) {
+        if (count[set][gI] == 0) continue;
+        char row[300];
+        std::snprintf(row, sizeof row, "| %s | %s | %zu | %.4g | %.4g | %.3f | %.1f%% |\n", label,
+                      names[gI], count[set][gI], sumOurs[set][gI] / double(count[set][gI]),
+                      sumRef[set][gI] / double(count[set][gI]),
+                      sumRef[set][gI] > 0 ? sumOurs[set][gI] / sumRef[set][gI] : 0.0,
+                      tr > 0 ? 100.0 * sumRef[set][gI] / tr : 0.0);
+        s += row;
+      }
+      char row[200];
+      std::snprintf(row, sizeof row, "| %s | all | %zu | %.4g | %.4g | %.3f | 100%% |\n", label, tc,
+                    tc ? to / double(tc) : 0.0, tc ? tr / double(tc) : 0.0, tr > 0 ? to / tr : 0.0);
+      s += row;
+      std::printf("    diagnose: one-bounce ray radiance, %s: ours/Embree %.3f over %zu rays\n",
+                  label, tr > 0 ? to / tr : 0.0, tc);
+    }
+    into.diagnosis += s;
   }
 
   // --diagnose: the receivers moved off their surface along the normal by one probe spacing of
@@ -378,6 +612,35 @@ class ConfigRun {
     if (moved.empty()) return;
     const std::vector<glm::vec3> e = gi_.irradiance(moved);
     const std::vector<glm::vec3> ref = referenceAt(positions, normals);
+    // Perfect probes: the reference at the 8 grid corners of each moved receiver's cage (up to
+    // 1024 receivers), with its normal, interpolated trilinearly. Near the reference there: the
+    // probe grid can represent the field at the receivers, and any loss is in the probes' values.
+    const std::vector<std::uint32_t> picks2 = samplingCascades(f.volumes, moved);
+    const std::size_t m = std::min<std::size_t>(moved.size(), 1024);
+    std::vector<glm::vec3> cornerAt, cornerNormal, alpha;
+    for (std::size_t k = 0; k < m; ++k) {
+      const gpu_shared::ProbeVolume& v = f.volumes[picks2[k]];
+      const glm::vec3 g =
+          (glm::vec3(moved[k].position) - glm::vec3(v.originSpacing)) / v.originSpacing.w;
+      const glm::vec3 base = glm::floor(g);
+      alpha.push_back(g - base);
+      for (std::uint32_t corner = 0; corner < 8; ++corner) {
+        const glm::vec3 lc = base + glm::vec3(corner & 1u, corner >> 1 & 1u, corner >> 2 & 1u);
+        const glm::vec3 st = glm::vec3(v.originSpacing) + lc * v.originSpacing.w;
+        cornerAt.push_back(glm::vec3(img.cascade0MinWorld + glm::dvec3(st) * img.voxelSize0));
+        cornerNormal.push_back(normals[k]);
+      }
+    }
+    const std::vector<glm::vec3> atCorners = referenceAt(cornerAt, cornerNormal);
+    double ideal = 0, refFirst = 0, giFirst = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+      glm::vec3 sum(0.0f);
+      for (std::uint32_t corner = 0; corner < 8; ++corner)
+        sum += probe::trilinearWeight(alpha[k], corner) * atCorners[k * 8 + corner];
+      ideal += luminance(sum);
+      refFirst += luminance(ref[k]);
+      giFirst += luminance(e[k]);
+    }
     const std::vector<glm::vec3> atSurface = gi_.irradiance(sc_.queries);
     double giAway = 0, refAway = 0, giHere = 0, refHere = 0;
     for (std::size_t k = 0; k < e.size(); ++k) {
@@ -386,13 +649,16 @@ class ConfigRun {
       giHere += luminance(atSurface[source[k]]);
       refHere += luminance(sc_.points.reference[source[k]]);
     }
-    char s[400];
+    char s[600];
     std::snprintf(s, sizeof s,
                   "\nReceivers moved one probe spacing off their surface along the normal (%zu "
                   "with a free way out): GI/reference there %.3f; the same receivers on their "
-                  "surface %.3f.\n",
+                  "surface %.3f. Perfect probes (the reference at the cage corners, "
+                  "interpolated; %zu receivers): /reference %.3f, and the GI / perfect probes "
+                  "%.3f.\n",
                   e.size(), refAway > 0 ? giAway / refAway : 0.0,
-                  refHere > 0 ? giHere / refHere : 0.0);
+                  refHere > 0 ? giHere / refHere : 0.0, m, refFirst > 0 ? ideal / refFirst : 0.0,
+                  ideal > 0 ? giFirst / ideal : 0.0);
     std::printf("    diagnose:%s", s + 1);
     into.diagnosis += s;
   }
@@ -438,50 +704,90 @@ class ConfigRun {
   }
 
   // --diagnose: the field's irradiance at the probes themselves (up to 512 probes that are not
-  // off, 6 axis normals each) against the reference there. Near 1 while the receivers' E/E_ref
-  // is not: the loss is in sampling (weights, visibility); as low as the receivers': it is in
-  // what the probes gather.
+  // off, 6 axis normals each) against the reference there: over every probe, and over the
+  // receivers' cage probes (those the receivers are sampled from; "every probe" is mostly open
+  // space). Near 1 while the receivers' E/E_ref is not: the loss is in sampling (weights,
+  // visibility); as low as the receivers': it is in what the probes gather.
   void diagnoseProbeIrradiance(SceneReport& into) {
     const CascadeStackImage img = st_.stack->stackImage();
     const probe::ProbeFieldFrame f = frameConstants(img);
-    const std::vector<LiveProbe> live = liveProbes(gi_, f, cfg_.probes.probesPerVolume());
-    const std::size_t stride = std::max<std::size_t>(1, live.size() / 512);
+    const std::uint32_t perVolume = cfg_.probes.probesPerVolume();
+    const std::vector<LiveProbe> live = liveProbes(gi_, f, perVolume);
+    const std::set<std::uint32_t> cage = cageProbes(f, perVolume, sc_.queries);
+    std::vector<LiveProbe> inCage;
+    for (const LiveProbe& p : live)
+      if (cage.count(p.cascade * perVolume + p.cell)) inCage.push_back(p);
     const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    std::vector<gpu_shared::ProbeQuery> queries;
-    std::vector<glm::vec3> positions, normals;
-    std::vector<std::uint32_t> cascadeOf;
-    for (std::size_t i = 0; i < live.size(); i += stride)
-      for (const glm::vec3& n : axes) {
-        queries.push_back({glm::vec4(live[i].stack, 0.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f)});
-        positions.push_back(
-            glm::vec3(img.cascade0MinWorld + glm::dvec3(live[i].stack) * img.voxelSize0));
-        normals.push_back(n);
-        cascadeOf.push_back(live[i].cascade);
-      }
-    if (queries.empty()) return;
-    const std::vector<glm::vec3> gi = gi_.irradiance(queries);
-    const std::vector<glm::vec3> ref = referenceAt(positions, normals);
-    std::vector<double> sumGi(f.volumes.size(), 0.0), sumRef(f.volumes.size(), 0.0);
-    std::vector<std::size_t> n(f.volumes.size(), 0);
-    for (std::size_t i = 0; i < gi.size(); ++i) {
-      sumGi[cascadeOf[i]] += luminance(gi[i]);
-      sumRef[cascadeOf[i]] += luminance(ref[i]);
-      ++n[cascadeOf[i]];
-    }
     std::string s =
         "\nIrradiance at the probes themselves (sampled at each probe's position, 6 axis "
-        "normals) against the reference there, mean luminance, by the cascade the probe belongs to "
-        "(sampling there reads the finest cascade that holds the point):\n\n"
-        "| cascade | queries | GI | reference | ratio |\n|---|---|---|---|---|\n";
-    for (std::size_t c = 0; c < n.size(); ++c) {
-      if (n[c] == 0) continue;
-      char row[160];
-      std::snprintf(row, sizeof row, "| %zu | %zu | %.4g | %.4g | %.3f |\n", c, n[c],
-                    sumGi[c] / double(n[c]), sumRef[c] / double(n[c]),
-                    sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0);
-      s += row;
-      std::printf("    diagnose: probes of cascade %zu: GI/reference %.3f (%zu queries)\n", c,
-                  sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0, n[c]);
+        "normals, up to 512 probes per set) against the reference there, mean luminance, by the "
+        "cascade the probe belongs to (sampling there reads the finest cascade that holds the "
+        "point):\n\n| probes | cascade | queries | GI | reference | ratio "
+        "|\n|---|---|---|---|---|---|\n";
+    // Third set: midway between each cage probe and its +x, +y, +z neighbours (both not off, the
+    // segment between them free on the triangles): where trilinear weights mix the two.
+    std::vector<LiveProbe> midway;
+    {
+      EmbreeScene embree(*sc_.scene.triangles);
+      std::map<std::uint32_t, glm::vec3> at;
+      for (const LiveProbe& p : live) at[p.cascade * perVolume + p.cell] = p.stack;
+      for (const LiveProbe& p : inCage) {
+        const glm::ivec3 counts(f.volumes[p.cascade].countsRays);
+        const glm::ivec3 lc(int(p.cell) % counts.x, int(p.cell) / counts.x % counts.y,
+                            int(p.cell) / (counts.x * counts.y));
+        for (int a = 0; a < 3; ++a) {
+          glm::ivec3 nb = lc;
+          ++nb[a];
+          if (nb[a] >= counts[a]) continue;
+          const auto it = at.find(p.cascade * perVolume +
+                                  std::uint32_t(nb.x + counts.x * (nb.y + counts.y * nb.z)));
+          if (it == at.end()) continue;
+          const glm::vec3 w0(img.cascade0MinWorld + glm::dvec3(p.stack) * img.voxelSize0);
+          const glm::vec3 w1(img.cascade0MinWorld + glm::dvec3(it->second) * img.voxelSize0);
+          const float len = glm::length(w1 - w0);
+          if (len <= 0.0f || embree.intersect(w0, (w1 - w0) / len, 0.0f, len)) continue;
+          midway.push_back({0.5f * (p.stack + it->second), p.cascade, p.cell});
+        }
+      }
+    }
+    for (int set = 0; set < 3; ++set) {
+      const std::vector<LiveProbe>& probes = set == 0 ? live : set == 1 ? inCage : midway;
+      const std::size_t stride = std::max<std::size_t>(1, probes.size() / 512);
+      std::vector<gpu_shared::ProbeQuery> queries;
+      std::vector<glm::vec3> positions, normals;
+      std::vector<std::uint32_t> cascadeOf;
+      for (std::size_t i = 0; i < probes.size(); i += stride)
+        for (const glm::vec3& n : axes) {
+          queries.push_back(
+              {glm::vec4(probes[i].stack, 0.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f)});
+          positions.push_back(
+              glm::vec3(img.cascade0MinWorld + glm::dvec3(probes[i].stack) * img.voxelSize0));
+          normals.push_back(n);
+          cascadeOf.push_back(probes[i].cascade);
+        }
+      if (queries.empty()) continue;
+      const std::vector<glm::vec3> gi = gi_.irradiance(queries);
+      const std::vector<glm::vec3> ref = referenceAt(positions, normals);
+      std::vector<double> sumGi(f.volumes.size(), 0.0), sumRef(f.volumes.size(), 0.0);
+      std::vector<std::size_t> n(f.volumes.size(), 0);
+      for (std::size_t i = 0; i < gi.size(); ++i) {
+        sumGi[cascadeOf[i]] += luminance(gi[i]);
+        sumRef[cascadeOf[i]] += luminance(ref[i]);
+        ++n[cascadeOf[i]];
+      }
+      const char* label = set == 0   ? "every probe"
+                          : set == 1 ? "the receivers' cage probes"
+                                     : "midway between neighbouring cage probes";
+      for (std::size_t c = 0; c < n.size(); ++c) {
+        if (n[c] == 0) continue;
+        char row[200];
+        std::snprintf(row, sizeof row, "| %s | %zu | %zu | %.4g | %.4g | %.3f |\n", label, c, n[c],
+                      sumGi[c] / double(n[c]), sumRef[c] / double(n[c]),
+                      sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0);
+        s += row;
+        std::printf("    diagnose: %s of cascade %zu: GI/reference %.3f (%zu queries)\n", label, c,
+                    sumRef[c] > 0.0 ? sumGi[c] / sumRef[c] : 0.0, n[c]);
+      }
     }
     into.diagnosis += s;
   }
@@ -542,7 +848,7 @@ class ConfigRun {
 }  // namespace
 
 ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
-                       SceneReport* peersInto) {
+                       SceneReport* peersInto, SceneReport* rayRadianceInto) {
   const auto start = Clock::now();
   const GiBenchOptions& opt = sc.opt;
   ConfigRun run(sc, cfg);
@@ -555,6 +861,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   if (keep) *keep = e;
   if (peersInto && opt.peers && sc.scene.triangles) run.runPeersOnProbeRays(*peersInto);
   if (peersInto && opt.diagnose && sc.scene.triangles) run.diagnoseRays(*peersInto);
+  if (rayRadianceInto && sc.scene.triangles) run.diagnoseRayRadiance(*rayRadianceInto);
   r.convergeCap = cfg.converge ? opt.convergeCap : 0;
   if (r.convergeCap > 0 && !sc.scene.lights.lights.empty() && !sc.testQueries.empty())
     run.measureConvergence(r);

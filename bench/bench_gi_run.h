@@ -27,8 +27,10 @@ struct SceneContext {
 };
 
 // Runs `cfg`. `keep` receives the final irradiance at every point; with peersInto the traversal
-// peers run on this configuration's probe rays and their results go there.
+// peers run on this configuration's probe rays and their results go there; with
+// rayRadianceInto, one more frame's probe rays are compared ray by ray with the same rays on the
+// triangles under one-bounce transport (meant for a bounceGain-0 run).
 ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
-                       SceneReport* peersInto);
+                       SceneReport* peersInto, SceneReport* rayRadianceInto = nullptr);
 
 }  // namespace sdfstream::bench

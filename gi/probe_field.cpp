@@ -10,7 +10,8 @@ constexpr std::uint32_t kBindings = 28;  // 22 probe + 6 object (probe_bindings.
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
-  return gpu::ComputePipeline(ctx, id, gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
+  return gpu::ComputePipeline(ctx, id,
+                              gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
 }
 
 gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
@@ -69,13 +70,30 @@ void ProbeField::reset() {
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                                      const gpu::Buffer& light) {
-  std::vector<const gpu::Buffer*> b = {
-      &frame_,          &volumes_,         &data_,         &history_,          &irradiance_,
-      &depth_,          &rays_,            &cache_,        &rotations_,        &list_,
-      &statsBuffer_,    &pageChanged_,     &scene.pageTables(), &scene.distance(), &scene.albedo(),
-      &scene.emission(), &scene.params(),  &light,         &queries_,          &results_,
-      &dispatchArgs_,   &rayDirs_};
-  for (const gpu::Buffer* o : objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
+  std::vector<const gpu::Buffer*> b = {&frame_,
+                                       &volumes_,
+                                       &data_,
+                                       &history_,
+                                       &irradiance_,
+                                       &depth_,
+                                       &rays_,
+                                       &cache_,
+                                       &rotations_,
+                                       &list_,
+                                       &statsBuffer_,
+                                       &pageChanged_,
+                                       &scene.pageTables(),
+                                       &scene.distance(),
+                                       &scene.albedo(),
+                                       &scene.emission(),
+                                       &scene.params(),
+                                       &light,
+                                       &queries_,
+                                       &results_,
+                                       &dispatchArgs_,
+                                       &rayDirs_};
+  for (const gpu::Buffer* o :
+       objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
     b.push_back(o);
   return b;
 }
@@ -99,8 +117,9 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   if (objects_ && objects_->active()) {
-    lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
-                                      (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
+    lastFrame_.constants.options.x |=
+        gpu_shared::kProbeOptionObjects |
+        (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
     if (objects_->settings().naiveTraversal)
       lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjectsNaive;
   }
@@ -109,7 +128,8 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   staging.upload(batch, rotations_, std::span(std::as_const(lastFrame_.rotations)));
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
   while (statsReadback_.size() < staging.framesInFlight())
-    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback);
+    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4,
+                                gpu::BufferKind::Readback);
 
   const std::vector<const gpu::Buffer*> b = bindings(scene, light);
   const std::uint32_t probes = std::uint32_t(sizes_.probes);
@@ -195,6 +215,12 @@ std::vector<glm::vec4> ProbeField::downloadProbeData() const {
 }
 std::vector<glm::uvec2> ProbeField::downloadHitCache() const {
   return download<glm::uvec2>(cache_, sizes_.cacheEntries);
+}
+ProbeField::RayRecords ProbeField::downloadRays(std::uint32_t listed) const {
+  const std::size_t n = std::min<std::size_t>(listed, settings_.listCapacity(cascades_));
+  const std::size_t rays = n * settings_.raysPerProbe;
+  return {download<std::uint32_t>(list_, n), download<glm::vec4>(rays_, rays),
+          download<glm::vec4>(rayDirs_, rays)};
 }
 
 }  // namespace sdfstream::probe

@@ -73,6 +73,15 @@ class ProbeField {
   std::vector<glm::vec2> downloadDepth() const;
   std::vector<glm::vec4> downloadProbeData() const;
   std::vector<glm::uvec2> downloadHitCache() const;
+  // The last update's probe rays (diagnosis): the first `listed` entries of the update list
+  // (global probe indices; listed = ProbeFieldStats::probesUpdated, clamped to the capacity) and,
+  // at list position x rays per probe + ray, what each ray brought back (radiance, depth; depth
+  // negated on a backface) and its direction.
+  struct RayRecords {
+    std::vector<std::uint32_t> list;
+    std::vector<glm::vec4> results, directions;
+  };
+  RayRecords downloadRays(std::uint32_t listed) const;
 
  private:
   std::vector<const gpu::Buffer*> bindings(const GpuStackScene& scene,

@@ -107,6 +107,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.visibility == ProbeFieldSettings::Visibility::Sdf) options |= gpu_shared::kProbeOptionNoChebyshev;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
   if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
+  if (s.backfacesBlack) options |= gpu_shared::kProbeOptionBackfacesBlack;
   if (first_) options |= gpu_shared::kProbeOptionFirstFrame;
   if (anyMoved || anyPageChanged) options |= gpu_shared::kProbeOptionCacheCheck;
   f.options = glm::uvec4(options, std::uint32_t(frame), s.sleepPeriod, s.maxSteps);

@@ -118,6 +118,14 @@ class PathTracer {
   // First hits through the pixel centres of the same camera model as render().
   std::vector<VisiblePoint> visiblePoints(const PinholeCamera& camera, int width, int height) const;
 
+  // The delta lights' irradiance at x (world metres) on unit normal n, hard shadows (next-event
+  // estimation of one path vertex), and the sky's radiance along unit dir: the two ends of a
+  // one-bounce path, for comparisons ray by ray.
+  glm::vec3 directIrradiance(const glm::vec3& x, const glm::vec3& n) const {
+    return directLights(x, n);
+  }
+  glm::vec3 skyRadianceAlong(const glm::vec3& dir) const { return skyRadiance(dir); }
+
   const TriangleScene& scene() const { return scene_; }
   const SceneLights& lights() const { return lights_; }
   const PathTracerSettings& settings() const { return settings_; }

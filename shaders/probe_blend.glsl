@@ -23,8 +23,9 @@ void probeBlendPass(ProbeFrame f, uint l, uint local) {
     uvec2 texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
     uint i = probeIrradianceIndex(g, texel + uvec2(kProbeBorderTexels));
     float h = vigilant ? min(v.blend.x, f.view.w) : v.blend.x;
-    PROBE_IRRADIANCE(i) = probeBlendIrradianceTexel(l * n, n, texel, PROBE_IRRADIANCE(i), h,
-                                                    v.blend.w, adaptive);
+    PROBE_IRRADIANCE(i) =
+        probeBlendIrradianceTexel(l * n, n, texel, PROBE_IRRADIANCE(i), h, v.blend.w, adaptive,
+                                  (f.options.x & kProbeOptionBackfacesBlack) != 0u);
   } else {
     uint d = local - irrCount;
     uvec2 texel = uvec2(d % kProbeDepthInterior, d / kProbeDepthInterior);

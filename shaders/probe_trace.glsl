@@ -65,7 +65,8 @@ ProbeRayHit probeTraceFresh(ProbeFrame f, uint c, vec3 o, vec3 dir) {
 
 // Radiance and depth of a probe ray given its hit (M21 Sec. 2.3, 4.1):
 //  - miss: the sky, depth = the volume's max depth;
-//  - backface hit (the probe sees the inside of geometry): black, depth shortened;
+//  - backface hit (the probe sees the inside of geometry): no light (the blend leaves it out),
+//    depth shortened and stored negated;
 //  - front hit: the light cache's radiance (emission + direct light, shaders/light_math.glsl)
 //    plus albedo * bounceGain * E(n) / pi with E the field's irradiance at the hit from the
 //    previous update (multi-bounce feedback).

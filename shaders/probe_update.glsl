@@ -73,13 +73,15 @@ vec3 probeSrgbToLinear(vec3 c) {
 // written; the per-texel change heuristic lowers h when asked (M21 Sec. 4.3). No weighted ray:
 // unchanged.
 vec4 probeBlendIrradianceTexel(uint rayBase, uint n, uvec2 texel, vec4 oldStored, float h,
-                               float gamma, bool adaptive) {
+                               float gamma, bool adaptive, bool backfacesBlack) {
   vec3 texelDir = probeTexelDirection(texel, kProbeIrradianceInterior);
   vec4 sums = vec4(0.0f);
   for (uint r = 0u; r < n; ++r) {
     vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
     if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the reads
     vec4 result = PROBE_RAY(rayBase + r);
+    // Backface hits (negated depth) carry no light: left out, not blended as black (RTXGI).
+    if (result.w < 0.0f && !backfacesBlack) continue;
     float w = probeIrradianceWeight(texelDir, rayDir);
     sums += vec4(vec3(result) * w, w);
   }
