@@ -55,8 +55,8 @@ std::string row(const std::string& label, const RayAgreement& r) {
   return s;
 }
 
-// Every ray traced through the stack starting in its own cascade first[i] (one dispatch per
-// cascade), results in the rays' order.
+}  // namespace
+
 std::vector<gpu_shared::TraceHit> traceFromCascades(const PeerInputs& in,
                                                     std::span<const gpu_shared::TraceRay> rays,
                                                     std::span<const std::uint32_t> first) {
@@ -83,7 +83,6 @@ std::vector<gpu_shared::TraceHit> traceFromCascades(const PeerInputs& in,
   }
   return out;
 }
-}  // namespace
 
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays) {
   const std::size_t n = rays.origin.size();

@@ -44,6 +44,12 @@ struct ProbeRayDiagnosis {
   std::size_t albedoRays = 0;
 };
 
+// Every ray traced through the stack on the device starting in its own cascade first[i] (one
+// dispatch per cascade), results in the rays' order.
+std::vector<gpu_shared::TraceHit> traceFromCascades(const PeerInputs& in,
+                                                    std::span<const gpu_shared::TraceRay> rays,
+                                                    std::span<const std::uint32_t> first);
+
 // Traces `rays` through the stack on the device and with Embree (in.threads CPU threads);
 // in.triangles gives the source albedo.
 ProbeRayDiagnosis diagnoseProbeRays(const PeerInputs& in, const PeerRays& rays);

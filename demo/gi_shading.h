@@ -41,7 +41,7 @@ namespace sdfstream {
 struct ShadingSettings {
   TraceSettings trace;                                   // primary rays
   std::uint32_t direct = gpu_shared::kShadeDirectPixel;  // kShadeDirect* (shade_layout.h)
-  std::uint32_t shadowSteps = 128;  // per shadow ray, all cascades (as the light cache)
+  std::uint32_t shadowSteps = 256;  // per shadow ray, all cascades (as the light cache)
   float shadowEpsilon = 0.02f;      // voxels
 };
 

@@ -30,8 +30,12 @@ namespace sdfstream {
 class GiSystem;
 
 struct LightCacheSettings {
-  std::uint32_t maxShadowSteps = 128;  // sphere-tracing steps per shadow ray, over all cascades
-  float hitEpsilon = 0.02f;            // voxels: a sample below this blocks the light
+  // Sphere-tracing steps per shadow ray, over all cascades. Resident bricks cap a step at the
+  // narrow band (3 voxels), so a ray crossing several cascades' occupied pages needs well over
+  // 128: at 128, 52% of the cascade-2 cells Sponza's probe rays land on in sunlight were black
+  // (out of steps counts as blocked); 256 lit all but 6% of them (bench gi --diagnose).
+  std::uint32_t maxShadowSteps = 256;
+  float hitEpsilon = 0.02f;  // voxels: a sample below this blocks the light
 };
 
 // Global page indices (cascade * 4096 + toroidal entry) whose cells need relighting, sorted:
@@ -63,6 +67,24 @@ gpu_shared::LightCachePushConstants lightCachePushConstants(
 
 // skyRadiance of shaders/light_math.glsl for C++ callers: the radiance of `sky` along unit `dir`.
 glm::vec3 skyRadianceCpu(const gpu_shared::GpuSky& sky, glm::vec3 dir);
+
+// Why the light-cache cell holding a point holds what it holds (diagnosis; the steps of
+// lightCacheCellRadiance for one light, on the CPU): the cell of cascade `cascade` containing
+// p0 (cascade-0 voxels), its SDF sample at the centre, normal, surface point, n·L, the cascade
+// its shadow ray starts in and the shadow's visibility. `light` in cascade-0 voxels (toGpu).
+struct LightCellSteps {
+  bool resident = false;            // the point's page holds a brick
+  bool inBand = false;              // |d(centre)| <= kLightSurfaceBand: a surface cell, lit
+  float distance = 0.0f;            // d(centre), the cascade's voxels
+  glm::vec3 normal{0.0f};           // SDF gradient at the centre
+  glm::vec3 surface0{0.0f};         // centre - n d, cascade-0 voxels
+  float cosine = 0.0f;              // n · (the way to the light)
+  std::uint32_t shadowCascade = 0;  // finest cascade holding the surface point
+  float visibility = 0.0f;          // of the shadow ray (0 when not traced)
+};
+LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::GpuLight& light,
+                              std::uint32_t cascade, glm::vec3 p0,
+                              const LightCacheSettings& settings = {});
 
 // CPU reference of the same math (TBB over pages × cells). Not thread safe; update() blocks.
 class LightCacheCpu {

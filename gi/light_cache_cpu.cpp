@@ -74,6 +74,43 @@ glm::dvec3 entryBrick(const CascadeStackImage& image, std::uint32_t c, std::uint
 }
 }  // namespace light_detail
 
+LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::GpuLight& light,
+                              std::uint32_t cascade, glm::vec3 p0,
+                              const LightCacheSettings& settings) {
+  using namespace gpu_shared;
+  light_detail::LightCacheShader sh{stack.pageTables.data(),   stack.distanceAtlas->data(),
+                                    stack.albedoAtlas->data(), stack.emissionAtlas->data(),
+                                    stack.params.data(),       &light};
+  const CascadeTraceParams& cp = stack.params[cascade];
+  const std::uint32_t cascades = std::uint32_t(stack.params.size());
+  const glm::vec3 p = (p0 - glm::vec3(cp.offsetScale)) / cp.offsetScale.w;
+  const glm::ivec3 page = sh.sdfPageOf(p);
+  const glm::ivec3 cellXyz =
+      glm::clamp(glm::ivec3(glm::floor(p - glm::vec3(page) * 8.0f)), glm::ivec3(0), glm::ivec3(7));
+  const std::uint32_t cell = std::uint32_t(cellXyz.x + 8 * (cellXyz.y + 8 * cellXyz.z));
+  LightCellSteps out;
+  const glm::vec3 centre = sh.lightCellCentre(page, cell);
+  const light_detail::LightCacheShader::SdfSample smp = sh.sdfSampleCascade(centre, cp.toroidal);
+  out.resident = smp.resident;
+  out.distance = smp.distance;
+  out.inBand = smp.resident && std::abs(smp.distance) <= sh.kLightSurfaceBand;
+  if (!out.inBand) return out;
+  out.normal = sh.sdfNormal(centre, cp.toroidal);
+  const glm::vec3 surface = centre - out.normal * smp.distance;
+  out.surface0 = glm::vec3(cp.offsetScale) + surface * cp.offsetScale.w;
+  const glm::vec3 toLight = glm::normalize(glm::vec3(light.direction));
+  out.cosine = glm::dot(out.normal, toLight);
+  if (out.cosine <= 0.0f) return out;
+  const std::uint32_t c = sh.lightFinestCascade(out.surface0, cascades);
+  out.shadowCascade = c;
+  const float voxel = stack.params[c < cascades ? c : cascades - 1].offsetScale.w;
+  const glm::vec3 origin = out.surface0 + out.normal * (0.5f * voxel);
+  const light_detail::LightCacheShader::LightShadowRay ray = sh.lightShadowRay(light, origin);
+  out.visibility = sh.sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, settings.maxShadowSteps,
+                                         settings.hitEpsilon, cascades, light.shape.z);
+  return out;
+}
+
 std::vector<std::uint32_t> lightDirtyPages(const CascadeStackImage* previous,
                                            const CascadeStackImage& current, bool lightsChanged) {
   using gpu_shared::kCascadePageCount;

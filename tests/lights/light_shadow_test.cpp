@@ -244,5 +244,30 @@ TEST(LightShadow, SurfacesAtACascadeEdgeAreNotShadowedByTheirCoarserCopy) {
     EXPECT_NEAR(radianceAt({x, 63, 64}).x, middle, 0.02f * middle) << "x=" << x;
 }
 
+// A sun ray that crosses two cascades' occupied pages without touching anything: the floor of a
+// slot canyon (walls z in [62, 63] and [66, 67], along x, up past the stack), the sun straight
+// down the canyon at 45 degrees. Every step is capped by the walls 1.5 voxels away (less in
+// cascade 1, where the interpolated distance sinks towards the wall faces), so the ray needs
+// 170-200 steps to leave the stack; out of steps counts as blocked. With 128 (the old budget)
+// the floor is black, though nothing is in the way (Sponza lost most of its sunlit cells so).
+TEST(LightShadow, ShadowRaysCrossingOccupiedCascadesAreNotCutShort) {
+  auto canyon = [](glm::vec3 p) {
+    return std::min({test::sdFloor(p), test::sdBox(p, {-64, 40, 62}, {192, 400, 63}),
+                     test::sdBox(p, {-64, 40, 66}, {192, 400, 67})});
+  };
+  AnalyticScene scene(canyon, kAlbedo, 0, 1.0, 2);
+  const std::vector<gpu_shared::GpuLight> lights{test::sunLight({1.0f, 1.0f, 0.0f}, 2.0f)};
+  const glm::vec3 want = test::linearAlbedo(kAlbedo) / 3.14159265f * 2.0f * std::sqrt(0.5f);
+  LightCacheCpu byDefault, old128(LightCacheSettings{128, LightCacheSettings{}.hitEpsilon});
+  byDefault.update(scene.image, lights, {}, scene.residentPages(), 1.0);
+  old128.update(scene.image, lights, {}, scene.residentPages(), 1.0);
+  for (int x : {64, 80, 96}) {
+    const std::uint32_t m = scene.materialIndex({x, 40, 64});
+    const glm::vec3 got = test::decode(byDefault.radiance()[m]);
+    EXPECT_NEAR(got.x, want.x, 0.01f * want.x) << "x=" << x;
+    EXPECT_EQ(old128.radiance()[m], 0u) << "x=" << x << ": the scene must need > 128 steps";
+  }
+}
+
 }  // namespace
 }  // namespace sdfstream
