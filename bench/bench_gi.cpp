@@ -148,11 +148,13 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
 void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<glm::vec3>& eFull,
                      SceneReport& rep) {
   GiConfig one = def;
-  one.name = "default-one-bounce";
+  one.name = def.name + "-one-bounce";
   one.probes.bounceGain = 0.0f;
   one.converge = false;
   std::vector<glm::vec3> e1;
-  runConfig(sc, one, &e1, nullptr, &rep);
+  RunReports into;
+  into.rayRadiance = &rep;
+  runConfig(sc, one, &e1, into);
   const ViewPoints& p = sc.points;
   double gi1 = 0, giAll = 0, ref1 = 0, refAll = 0;
   for (std::size_t i = 0; i < e1.size(); ++i) {
@@ -215,7 +217,14 @@ void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::pa
   for (const GiConfig& c : run) {
     std::vector<glm::vec3> e;
     const bool isDefault = c.name == "default", isBaseline = c.name == "plain-ddgi";
-    ConfigResult r = runConfig(sc, c, &e, isDefault && !sc.opt.gpuTable ? &rep : nullptr);
+    // The peers run on the default's rays; the diagnosis on --diagnose-config's (the default).
+    const bool diagnosed = sc.opt.diagnose && c.name == sc.opt.diagnoseConfig;
+    RunReports into;
+    if (!sc.opt.gpuTable) {
+      into.peers = isDefault && sc.opt.peers ? &rep : nullptr;
+      into.diagnosis = diagnosed ? &rep : nullptr;
+    }
+    ConfigResult r = runConfig(sc, c, &e, into);
     std::printf(
         "    %-22s update %8.2f ms  sample %7.2f ms  relMSE %8.4f  FLIP %.4f  E/Eref %.3f  "
         "converge %3d  %6.1f MiB  (%.0f s)\n",
@@ -227,8 +236,7 @@ void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::pa
         writeToneMappedPng(sceneDir / (points.names[k] + "-" + c.name + ".png"),
                            shadedImage(points, k, e), points.width, points.height,
                            points.exposure[k]);
-    if (isDefault && sc.opt.diagnose && !points.referenceOneBounce.empty())
-      diagnoseBounces(sc, c, e, rep);
+    if (diagnosed && !points.referenceOneBounce.empty()) diagnoseBounces(sc, c, e, rep);
     rep.configs.push_back(std::move(r));
   }
 }

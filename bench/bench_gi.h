@@ -29,7 +29,8 @@ struct GiBenchOptions {
   // diagnose: also where the light goes (bench/bench_gi_diagnose.h) -- the default's probe rays
   // against Embree by cascade, and the one-bounce transport against a one-bounce reference.
   bool diagnose = false;
-  std::vector<std::string> only;  // run just these configurations (empty: all)
+  std::string diagnoseConfig = "default";  // the configuration --diagnose takes apart
+  std::vector<std::string> only;           // run just these configurations (empty: all)
   std::filesystem::path out = "out/bench-gi", data = "../shared/data",
                         largeWorld = "out/worlds/large-4km";
   std::vector<std::string> scenes;  // names of benchSceneNames()

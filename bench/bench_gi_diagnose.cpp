@@ -249,7 +249,7 @@ std::string diagnosisMarkdown(const ProbeRayDiagnosis& d, std::size_t cascades) 
   char early[16];
   std::snprintf(early, sizeof early, "%.0f", ProbeRayDiagnosis::kEarlyVoxels);
   std::string s =
-      "Probe rays of one frame of the default, traced as the probes trace them (from the probe's "
+      "Probe rays of one frame, traced as the probes trace them (from the probe's "
       "cascade outwards) and by Embree on the source triangles, by the cascade our ray ends in. "
       "*closed*: we hit where the triangles let the ray escape; *early* / *late*: both hit, ours "
       "more than " +

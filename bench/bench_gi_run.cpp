@@ -285,7 +285,7 @@ void ConfigRun::measureConvergence(ConfigResult& r) {
 }
 
 ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
-                       SceneReport* peersInto, SceneReport* rayRadianceInto) {
+                       const RunReports& into) {
   const auto start = Clock::now();
   const GiBenchOptions& opt = sc.opt;
   ConfigRun run(sc, cfg);
@@ -296,9 +296,9 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   const std::vector<glm::vec3> e = run.measure(r);
   if (!sc.points.reference.empty()) score(sc.points, e, r);
   if (keep) *keep = e;
-  if (peersInto && opt.peers && sc.scene.triangles) run.runPeersOnProbeRays(*peersInto);
-  if (peersInto && opt.diagnose && sc.scene.triangles) run.diagnoseRays(*peersInto);
-  if (rayRadianceInto && sc.scene.triangles) run.diagnoseRayRadiance(*rayRadianceInto);
+  if (into.peers && sc.scene.triangles) run.runPeersOnProbeRays(*into.peers);
+  if (into.diagnosis && sc.scene.triangles) run.diagnoseRays(*into.diagnosis);
+  if (into.rayRadiance && sc.scene.triangles) run.diagnoseRayRadiance(*into.rayRadiance);
   r.convergeCap = cfg.converge ? opt.convergeCap : 0;
   if (r.convergeCap > 0 && !sc.scene.lights.lights.empty() && !sc.testQueries.empty())
     run.measureConvergence(r);

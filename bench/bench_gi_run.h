@@ -26,11 +26,17 @@ struct SceneContext {
   std::vector<std::size_t> testIndex;                        // testQueries[i] is point testIndex[i]
 };
 
-// Runs `cfg`. `keep` receives the final irradiance at every point; with peersInto the traversal
-// peers run on this configuration's probe rays and their results go there; with
-// rayRadianceInto, one more frame's probe rays are compared ray by ray with the same rays on the
-// triangles under one-bounce transport (meant for a bounceGain-0 run).
+// Where runConfig reports what it measures beyond its result row (null: not measured).
+struct RunReports {
+  SceneReport* peers = nullptr;      // the traversal peers on this configuration's probe rays
+  SceneReport* diagnosis = nullptr;  // --diagnose: probe rays, probes, receivers
+  // One more frame's probe rays compared ray by ray with the same rays on the triangles under
+  // one-bounce transport (meant for a bounceGain-0 run).
+  SceneReport* rayRadiance = nullptr;
+};
+
+// Runs `cfg`. `keep` receives the final irradiance at every point.
 ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
-                       SceneReport* peersInto, SceneReport* rayRadianceInto = nullptr);
+                       const RunReports& into);
 
 }  // namespace sdfstream::bench

@@ -26,6 +26,7 @@ namespace sdfstream::bench {
 
 // --diagnose: this frame's probe rays against Embree, by the cascade they end in.
 void ConfigRun::diagnoseRays(SceneReport& into) {
+  into.diagnosis += "Configuration taken apart: `" + cfg_.name + "`.\n\n";
   const CascadeStackImage img = st_.stack->stackImage();
   const PeerRays rays = probeRaySet(gi_, img, cfg_.probes, in_, frame_);
   EmbreeScene embree(*sc_.scene.triangles);

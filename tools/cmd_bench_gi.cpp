@@ -63,6 +63,8 @@ constexpr const char* kHelp =
     "                 and perfect probes against the reference; its one-bounce transport\n"
     "                 against a one-bounce reference, and ray by ray against the same rays on\n"
     "                 the triangles\n"
+    "  --diagnose-config NAME  take this configuration apart instead of the default (implies\n"
+    "                 --diagnose; it must be among those run)\n"
     "  --query-offset V  GI queries sit V LOD-0 voxels off the reference's points along the\n"
     "                 normal (default 0.5: on the SDF surface of an open sheet)\n"
     "  --gpu-table    only the per-pass time table of scripts/bench-gpu (SDFDDGI's probe count,\n"
@@ -71,12 +73,12 @@ constexpr const char* kHelp =
 }  // namespace
 
 int runBenchGi(int argc, char** argv) {
-  Args args(
-      argc, argv, 3,
-      {"--scenes", "--out", "-o", "--data", "--large-world", "--width", "--height", "--samples",
-       "--frames", "--measure", "--device", "--converge-cap", "--configs", "--query-offset"},
-      {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose",
-       "--diagnose"});
+  Args args(argc, argv, 3,
+            {"--scenes", "--out", "-o", "--data", "--large-world", "--width", "--height",
+             "--samples", "--frames", "--measure", "--device", "--converge-cap", "--configs",
+             "--query-offset", "--diagnose-config"},
+            {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose",
+             "--diagnose"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -89,7 +91,8 @@ int runBenchGi(int argc, char** argv) {
   opt.gpuTable = args.has("--gpu-table");
   opt.peers = !args.has("--no-peers") && !opt.gpuTable;
   opt.verbose = args.has("--verbose");
-  opt.diagnose = args.has("--diagnose");
+  opt.diagnose = args.has("--diagnose") || args.value("--diagnose-config").has_value();
+  if (auto c = args.value("--diagnose-config")) opt.diagnoseConfig = *c;
   if (auto c = args.value("--configs")) opt.only = splitList(*c);
   opt.out = args.value("--out").value_or(args.value("-o").value_or(opt.out.string()));
   opt.data = args.value("--data").value_or(opt.data.string());
