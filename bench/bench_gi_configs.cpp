@@ -83,6 +83,11 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     s = base;
     s.irradianceGamma = gpu_shared::kProbeIrradianceGamma;
     add(prefix + "gamma-5", "ours", "irradiance blended as E^(1/5) (M21)", s, cascades, !quick);
+    // M21 Sec. 4.3's change heuristic resets a texel to a fresh estimate that jumps: for
+    // estimates that spike (a few rays on a bright patch) spikes may then outlast dips.
+    s = base;
+    s.adaptiveHysteresis = false;
+    add(prefix + "fixed-hysteresis", "ours", "adaptive hysteresis off", s, cascades, !quick);
     s = base;
     s.backfacesBlack = true;
     add(prefix + "backfaces-black", "ours", "backface rays blended as black", s, cascades, !quick);
