@@ -83,14 +83,24 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     s = base;
     s.irradianceGamma = gpu_shared::kProbeIrradianceGamma;
     add(prefix + "gamma-5", "ours", "irradiance blended as E^(1/5) (M21)", s, cascades, !quick);
-    // M21 Sec. 4.3's change heuristic resets a texel to a fresh estimate that jumps: for
-    // estimates that spike (a few rays on a bright patch) spikes may then outlast dips.
-    s = base;
-    s.adaptiveHysteresis = false;
-    add(prefix + "fixed-hysteresis", "ours", "adaptive hysteresis off", s, cascades, !quick);
-    s = base;
-    s.backfacesBlack = true;
-    add(prefix + "backfaces-black", "ours", "backface rays blended as black", s, cascades, !quick);
+    if (!quick) {
+      // How long probes stay vigilant (hysteresis 0.3) after a change or at the start: the
+      // Breakfast Room's multi-bounce builds up over hundreds of frames at 0.97.
+      for (std::uint32_t frames : {16u, 32u}) {
+        s = base;
+        s.vigilantFrames = frames;
+        add("vigilant-" + std::to_string(frames), "ours",
+            "vigilant for " + std::to_string(frames) + " frames after a change", s, cascades, true);
+      }
+      // M21 Sec. 4.3's change heuristic resets a texel to a fresh estimate that jumps: for
+      // estimates that spike (a few rays on a bright patch) spikes then outlast dips.
+      s = base;
+      s.adaptiveHysteresis = false;
+      add("fixed-hysteresis", "ours", "adaptive hysteresis off", s, cascades, true);
+      s = base;
+      s.backfacesBlack = true;
+      add("backfaces-black", "ours", "backface rays blended as black", s, cascades, true);
+    }
     if (quick)
       for (GiConfig& c : out)
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
