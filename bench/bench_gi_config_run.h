@@ -135,6 +135,25 @@ class ConfigRun {
   void measureConvergence(ConfigResult& r);
 
  private:
+  // One frame's probe rays with what each brought back (rec.results) and what the same ray
+  // brings back on the triangles, by ray (list position x rays per probe + ray).
+  struct RayComparison {
+    enum Group : std::uint8_t { kSkyBoth, kLitBoth, kShadowBoth, kOursOnly, kEmbreeOnly, kGroups };
+    probe::ProbeField::RayRecords rec;
+    probe::ProbeFieldFrame frame;
+    std::vector<glm::vec4> probeData;
+    std::set<std::uint32_t> cage;  // the receivers' cage probes (cageProbes)
+    std::vector<float> ours, ref;  // luminance of our radiance and the triangles'
+    std::vector<std::uint8_t> group, inCage, cascadeOf;
+    std::vector<float> triT;                      // Embree's hit distance (-1: none)
+    std::vector<glm::vec3> triNormal, triAlbedo;  // at Embree's hit, normal facing the ray
+  };
+  RayComparison compareRays(const CascadeStackImage& img, const EmbreeScene& embree);
+  void diagnoseSunlitHits(SceneReport& into, const RayComparison& c, const CascadeStackImage& img,
+                          const EmbreeScene& embree);
+  void diagnoseFrameAgainstStored(SceneReport& into, const RayComparison& c);
+  void writeRayTable(SceneReport& into, const RayComparison& c);
+
   static GiSettings settings(const GiConfig& cfg) {
     GiSettings gs;
     gs.probes = cfg.probes;

@@ -105,33 +105,42 @@ void ConfigRun::diagnoseRays(SceneReport& into) {
   diagnoseAwayFromSurfaces(into);
 }
 
-// --diagnose, on the one-bounce run (bounceGain 0): what each probe ray of one frame brought
-// back against what the same ray brings back on the triangles: the sky where Embree's ray
-// escapes the scene (unbounded: what lies beyond the stack is part of what our rays miss),
-// else emission + albedo/pi x the delta lights (hard shadows) at Embree's hit -- the same
-// one-bounce transport. Mean luminance over every ray and
-// over the rays of the receivers' cage probes, split by what both saw.
-void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
+// One frame's probe rays (one more step), each against the same ray on the triangles under
+// one-bounce transport: the sky where Embree's ray escapes the scene (unbounded: what lies beyond
+// the stack is part of what our rays miss), else emission + albedo/pi x the delta lights (hard
+// shadows) at Embree's hit.
+ConfigRun::RayComparison ConfigRun::compareRays(const CascadeStackImage& img,
+                                                const EmbreeScene& embree) {
+  RayComparison c;
   const GiFrameStats stats = step();
-  const probe::ProbeField::RayRecords rec = gi_.probes().downloadRays(stats.probes.probesUpdated);
-  const CascadeStackImage img = st_.stack->stackImage();
-  const probe::ProbeFieldFrame f = frameConstants(img);
+  c.rec = gi_.probes().downloadRays(stats.probes.probesUpdated);
+  c.frame = frameConstants(img);
+  c.probeData = gi_.probes().downloadProbeData();
   const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
-  const std::vector<glm::vec4> data = gi_.probes().downloadProbeData();
-  const std::set<std::uint32_t> cage = cageProbes(f, perVolume, sc_.queries);
+  c.cage = cageProbes(c.frame, perVolume, sc_.queries);
+  const auto& rec = c.rec;
+  const auto& f = c.frame;
+  const auto& data = c.probeData;
+  const auto& cage = c.cage;
   const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
-  const EmbreeScene embree(*sc_.scene.triangles);
-  enum Group { kSkyBoth, kLitBoth, kShadowBoth, kOursOnly, kEmbreeOnly, kGroups };
-  const char* names[kGroups] = {"sky in both", "surface in both, sunlit on the triangles",
-                                "surface in both, unlit on the triangles",
-                                "surface in ours only (closed)", "surface in Embree's only (leak)"};
   const gpu_shared::GpuSky gpuSky = toGpu(lights_.sky);
   const std::size_t rays = rec.results.size();
-  std::vector<float> ours(rays, 0.0f), ref(rays, 0.0f);
-  std::vector<std::uint8_t> group(rays, 0), inCage(rays, 0), cascadeOf(rays, 0);
-  // Embree's hit of each ray: distance, normal turned towards the ray, linear albedo.
-  std::vector<float> triT(rays, -1.0f);
-  std::vector<glm::vec3> triNormal(rays), triAlbedo(rays);
+  c.ours.assign(rays, 0.0f);
+  c.ref.assign(rays, 0.0f);
+  c.group.assign(rays, 0);
+  c.inCage.assign(rays, 0);
+  c.cascadeOf.assign(rays, 0);
+  c.triT.assign(rays, -1.0f);
+  c.triNormal.assign(rays, glm::vec3(0.0f));
+  c.triAlbedo.assign(rays, glm::vec3(0.0f));
+  auto& ours = c.ours;
+  auto& ref = c.ref;
+  auto& group = c.group;
+  auto& inCage = c.inCage;
+  auto& cascadeOf = c.cascadeOf;
+  auto& triT = c.triT;
+  auto& triNormal = c.triNormal;
+  auto& triAlbedo = c.triAlbedo;
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, rec.list.size(), 16),
       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -170,20 +179,37 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
                                  glm::length(got - sky) <= 1e-3f * glm::length(sky) + 1e-6f;
             ours[i] = float(luminance(glm::vec3(rec.results[i])));
             ref[i] = float(luminance(l1));
-            group[i] = std::uint8_t(oursSky ? (hit ? kEmbreeOnly : kSkyBoth)
-                                            : (!hit  ? kOursOnly
-                                               : lit ? kLitBoth
-                                                     : kShadowBoth));
+            group[i] =
+                std::uint8_t(oursSky ? (hit ? RayComparison::kEmbreeOnly : RayComparison::kSkyBoth)
+                                     : (!hit  ? RayComparison::kOursOnly
+                                        : lit ? RayComparison::kLitBoth
+                                              : RayComparison::kShadowBoth));
             inCage[i] = cageProbe;
             cascadeOf[i] = std::uint8_t(p.cascade);
           }
         }
       });
-  // The cage probes' rays that land where the sun reaches on the triangles, taken apart: our
-  // hit traced again through the stack from the probe, its albedo, SDF normal and a hard
-  // shadow ray from half a voxel off it towards the sun (as the light cache starts one), and
-  // albedo/pi x E_sun x cos x visibility built from those -- against what the light cache
-  // returned and what the triangles give.
+  return c;
+}
+
+// The cage probes' rays that land where the sun reaches on the triangles, taken apart: our
+// hit traced again through the stack from the probe, its albedo, SDF normal and a hard
+// shadow ray from half a voxel off it towards the sun (as the light cache starts one), and
+// albedo/pi x E_sun x cos x visibility built from those -- against what the light cache
+// returned and what the triangles give.
+void ConfigRun::diagnoseSunlitHits(SceneReport& into, const RayComparison& c,
+                                   const CascadeStackImage& img, const EmbreeScene& embree) {
+  const auto& rec = c.rec;
+  const auto& f = c.frame;
+  const auto& data = c.probeData;
+  const auto& ours = c.ours;
+  const auto& ref = c.ref;
+  const auto& group = c.group;
+  const auto& inCage = c.inCage;
+  const auto& triT = c.triT;
+  const auto& triNormal = c.triNormal;
+  const auto& triAlbedo = c.triAlbedo;
+  const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
   if (!lights_.lights.empty() && lights_.lights[0].type == SceneLight::Type::Sun) {
     const SceneLight& sun = lights_.lights[0];
     const glm::vec3 toSun = -glm::normalize(sun.direction);
@@ -196,7 +222,7 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
       const LiveProbe p = probeAt(f, perVolume, g, data[g]);
       for (std::uint32_t k = 0; k < n; ++k) {
         const std::size_t i = l * n + k;
-        if (group[i] != kLitBoth || !inCage[i]) continue;
+        if (group[i] != RayComparison::kLitBoth || !inCage[i]) continue;
         gpu_shared::TraceRay tr;
         tr.originTMin = glm::vec4(p.stack, 0.0f);
         tr.dirTMax = glm::vec4(glm::normalize(glm::vec3(rec.directions[i])), 1e30f);
@@ -352,10 +378,20 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
       into.diagnosis += why + examples;
     }
   }
-  // Per cage probe, the six axis irradiances from this frame's rays alone (ours and the same
-  // rays on the triangles, cosine-weighted as the blend weights them) against what the probe
-  // stores (sampled at its position from its own cascade): the frame's estimate against the
-  // temporal blend of many such frames.
+}
+
+// Per cage probe, the six axis irradiances from this frame's rays alone (ours and the same
+// rays on the triangles, cosine-weighted as the blend weights them) against what the probe
+// stores (sampled at its position from its own cascade): the frame's estimate against the
+// temporal blend of many such frames.
+void ConfigRun::diagnoseFrameAgainstStored(SceneReport& into, const RayComparison& c) {
+  const auto& rec = c.rec;
+  const auto& f = c.frame;
+  const auto& data = c.probeData;
+  const auto& cage = c.cage;
+  const auto& ours = c.ours;
+  const auto& ref = c.ref;
+  const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
   {
     const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     std::vector<gpu_shared::ProbeQuery> q;
@@ -423,10 +459,25 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
       into.diagnosis += quart + "\n";
     }
   }
-  // Sets: every ray, the cage probes' rays, then the rays of each cascade's probes.
+}
+
+// The comparison's table: mean luminance by what both saw, over every ray, the receivers' cage
+// probes' rays and each cascade's probes' rays.
+void ConfigRun::writeRayTable(SceneReport& into, const RayComparison& c) {
+  const std::size_t rays = c.ours.size();
+  const auto& f = c.frame;
+  const auto& ours = c.ours;
+  const auto& ref = c.ref;
+  const auto& group = c.group;
+  const auto& inCage = c.inCage;
+  const auto& cascadeOf = c.cascadeOf;
+  const char* names[RayComparison::kGroups] = {
+      "sky in both", "surface in both, sunlit on the triangles",
+      "surface in both, unlit on the triangles", "surface in ours only (closed)",
+      "surface in Embree's only (leak)"};
   const std::size_t sets = 2 + f.volumes.size();
-  std::vector<std::array<double, kGroups>> sumOurs(sets), sumRef(sets);
-  std::vector<std::array<std::size_t, kGroups>> count(sets);
+  std::vector<std::array<double, RayComparison::kGroups>> sumOurs(sets), sumRef(sets);
+  std::vector<std::array<std::size_t, RayComparison::kGroups>> count(sets);
   for (std::size_t set = 0; set < sets; ++set) {
     sumOurs[set].fill(0.0);
     sumRef[set].fill(0.0);
@@ -448,7 +499,7 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
   for (std::size_t set = 0; set < sets; ++set) {
     double to = 0, tr = 0;
     std::size_t tc = 0;
-    for (int gI = 0; gI < kGroups; ++gI) {
+    for (int gI = 0; gI < RayComparison::kGroups; ++gI) {
       to += sumOurs[set][gI];
       tr += sumRef[set][gI];
       tc += count[set][gI];
@@ -458,7 +509,7 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
                                         : "cascade " + std::to_string(set - 2) + "'s probes";
     const char* label = name.c_str();
     if (tc == 0) continue;
-    for (int gI = 0; gI < kGroups; ++gI) {
+    for (int gI = 0; gI < RayComparison::kGroups; ++gI) {
       if (count[set][gI] == 0) continue;
       char row[300];
       std::snprintf(row, sizeof row, "| %s | %s | %zu | %.4g | %.4g | %.3f | %.1f%% |\n", label,
@@ -478,6 +529,17 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
   into.diagnosis += s;
 }
 
+// --diagnose, on the one-bounce run (bounceGain 0): one frame's probe rays against the same rays
+// on the triangles (compareRays), then the sunlit hits taken apart, the cage probes' stored
+// irradiance against that frame's, and the table by what both saw.
+void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
+  const CascadeStackImage img = st_.stack->stackImage();
+  const EmbreeScene embree(*sc_.scene.triangles);
+  const RayComparison c = compareRays(img, embree);
+  diagnoseSunlitHits(into, c, img, embree);
+  diagnoseFrameAgainstStored(into, c);
+  writeRayTable(into, c);
+}
 // --diagnose: the receivers moved off their surface along the normal by one probe spacing of
 // their sampling cascade (in free space, up to 4096 of them), GI against the reference there.
 // Near the probes-themselves ratio while the receivers' is not: the loss is in sampling next
