@@ -25,7 +25,13 @@ struct ProbeFieldSettings {
   float irradianceHysteresis = gpu_shared::kProbeDefaultHysteresis;
   float depthHysteresis = gpu_shared::kProbeDefaultHysteresis;
   float vigilantHysteresis = 0.3f;  // new probes and probes after a light change (M21 Sec. 5)
-  std::uint32_t vigilantFrames = 8;
+  // Frames a probe stays vigilant when it is new (first frame, scrolled in) or the lights
+  // changed: the multi-bounce builds up over tens of frames at 0.97 in a bright interior
+  // (Breakfast Room E/E_ref after 32 + 6 frames: 0.765 at 8, 0.930 at 32; docs/DECISIONS.md).
+  std::uint32_t vigilantFrames = 32;
+  // ... and when a moving object passes near it: short, since low hysteresis is visible as
+  // flicker where objects keep moving. Both at most 255.
+  std::uint32_t objectVigilantFrames = 8;
   bool adaptiveHysteresis = true;              // per-texel change heuristic (M21 Sec. 4.3)
   float maxDepthSpacings = 2.0f * 1.7320508f;  // depth a miss records, in probe spacings
   // Exponent of the irradiance encoding the blend works in (texel = E^(1/gamma)). 1: linear.

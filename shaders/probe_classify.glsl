@@ -175,14 +175,14 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     for (uint t = 0u; t < kProbeDepthTexels * kProbeDepthTexels; ++t)
       PROBE_DEPTH(g * kProbeDepthTexels * kProbeDepthTexels + t) = vec2(0.0f);
     quiet = 0u;
-    vigilant = f.selection.w;
+    vigilant = f.selection.w & 255u;
     age = 0u;
     inside = false;
     mean = vec3(0.0f);
   } else {
     float hLast = vigilant > 0u ? min(v.blend.x, f.view.w) : v.blend.x;
     if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
-      vigilant = f.selection.w;
+      vigilant = f.selection.w & 255u;
       quiet = 0u;
     }
     if (age == 0u) {  // updated by the previous frame: measure how much it changed
@@ -221,7 +221,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
   // object has passed.
   bool insideObject = false;
   if ((f.options.x & kProbeOptionObjects) != 0u && !entered && objMovedNear(grid + offset, c)) {
-    vigilant = f.selection.w;
+    vigilant = max(vigilant, (f.selection.w >> 8u) & 255u);
     quiet = 0u;
   }
   if (probeObjectsReach(f, c)) insideObject = objInsideAny(grid + offset, c);

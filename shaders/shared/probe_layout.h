@@ -87,7 +87,8 @@ struct ProbeFrame {
   vec4 trace;            // x: hit epsilon, y: relocation min distance (fraction of spacing),
                          // z: sleep threshold (relative change), w: rays cap (trace tMax) (96..111)
   uvec4 selection;       // x: cutoff class (select emit; kProbeClassCount = all), y: list capacity,
-                         // z: rotation slots of the hit cache, w: vigilant frames     (112..127)
+                         // z: rotation slots of the hit cache, w: vigilant frames after a
+                         // change (bits 0-7) / near a moving object (bits 8-15)      (112..127)
   vec4 worldToStack;     // xyz: cascade 0's minimum corner, world metres; w: 1 / cascade-0 voxel
                          // size (1/m): stack = (world - xyz) * w, as CascadeStackImage::toStack;
                          // engines' world-space queries (sdfstream/probe_sample.glsl) (128..143)

@@ -125,7 +125,7 @@ TEST_F(ProbeFieldStabilityTest, IdenticalSeedsGiveIdenticalResults) {
 
 // Frames until the irradiance at receivers on the walls (their mean: the room's brightness) is
 // within 5% of its converged value after the light switches off, and after it switches on again
-// (goal <= 10 frames at the default settings: vigilant probes blend with hysteresis 0.3 for 8
+// (goal <= 10 frames at the default settings: vigilant probes blend with hysteresis 0.3 for 32
 // frames; with the bounce feedback the error shrinks by about h + (1 - h) rho = 0.58 per frame).
 // Also reported: frames until every single receiver is within 5% (per-texel noise of 128 rays
 // keeps a few receivers a little farther out for longer).
