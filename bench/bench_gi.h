@@ -26,8 +26,9 @@ struct GiBenchOptions {
   // per-pass time table of scripts/bench-gpu (it wins where both are set). Neither: everything.
   bool quick = false, gpuTable = false;
   bool peers = true, verbose = false;
-  // diagnose: also where the light goes (bench/bench_gi_diagnose.h) -- the default's probe rays
-  // against Embree by cascade, and the one-bounce transport against a one-bounce reference.
+  // diagnose: also where the light goes (bench/bench_gi_diagnose.h) -- diagnoseConfig's probe
+  // rays against Embree by cascade, its probes against the reference, and its one-bounce transport
+  // against a one-bounce reference, overall and ray by ray.
   bool diagnose = false;
   std::string diagnoseConfig = "default";  // the configuration --diagnose takes apart
   std::vector<std::string> only;           // run just these configurations (empty: all)

@@ -23,6 +23,10 @@
 #include "world/triangle_scene.h"
 
 namespace sdfstream::bench {
+namespace {
+// The six axis normals the probes' irradiance is compared along.
+const glm::vec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+}  // namespace
 
 // --diagnose: this frame's probe rays against Embree, by the cascade they end in.
 void ConfigRun::diagnoseRays(SceneReport& into) {
@@ -210,173 +214,171 @@ void ConfigRun::diagnoseSunlitHits(SceneReport& into, const RayComparison& c,
   const auto& triNormal = c.triNormal;
   const auto& triAlbedo = c.triAlbedo;
   const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
-  if (!lights_.lights.empty() && lights_.lights[0].type == SceneLight::Type::Sun) {
-    const SceneLight& sun = lights_.lights[0];
-    const glm::vec3 toSun = -glm::normalize(sun.direction);
-    const glm::vec3 sunE = sun.color * sun.intensity;
-    std::vector<std::size_t> idx;
-    std::vector<gpu_shared::TraceRay> primary;
-    std::vector<std::uint32_t> first;
-    for (std::size_t l = 0; l < rec.list.size(); ++l) {
-      const std::uint32_t g = rec.list[l];
-      const LiveProbe p = probeAt(f, perVolume, g, data[g]);
-      for (std::uint32_t k = 0; k < n; ++k) {
-        const std::size_t i = l * n + k;
-        if (group[i] != RayComparison::kLitBoth || !inCage[i]) continue;
-        gpu_shared::TraceRay tr;
-        tr.originTMin = glm::vec4(p.stack, 0.0f);
-        tr.dirTMax = glm::vec4(glm::normalize(glm::vec3(rec.directions[i])), 1e30f);
-        primary.push_back(tr);
-        first.push_back(p.cascade);
-        idx.push_back(i);
-      }
+  if (lights_.lights.empty() || lights_.lights[0].type != SceneLight::Type::Sun) return;
+  const SceneLight& sun = lights_.lights[0];
+  const glm::vec3 toSun = -glm::normalize(sun.direction);
+  const glm::vec3 sunE = sun.color * sun.intensity;
+  std::vector<std::size_t> idx;
+  std::vector<gpu_shared::TraceRay> primary;
+  std::vector<std::uint32_t> first;
+  for (std::size_t l = 0; l < rec.list.size(); ++l) {
+    const std::uint32_t g = rec.list[l];
+    const LiveProbe p = probeAt(f, perVolume, g, data[g]);
+    for (std::uint32_t k = 0; k < n; ++k) {
+      const std::size_t i = l * n + k;
+      if (group[i] != RayComparison::kLitBoth || !inCage[i]) continue;
+      gpu_shared::TraceRay tr;
+      tr.originTMin = glm::vec4(p.stack, 0.0f);
+      tr.dirTMax = glm::vec4(glm::normalize(glm::vec3(rec.directions[i])), 1e30f);
+      primary.push_back(tr);
+      first.push_back(p.cascade);
+      idx.push_back(i);
     }
-    const PeerInputs pi = peerInputs(embree);
-    const std::vector<gpu_shared::TraceHit> hits = traceFromCascades(pi, primary, first);
-    std::vector<gpu_shared::TraceRay> shadow(hits.size());
-    std::vector<std::uint32_t> shadowFirst(hits.size(), 0);
-    for (std::size_t j = 0; j < hits.size(); ++j) {
-      const std::uint32_t c = (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u;
-      const glm::vec3 o(primary[j].originTMin), d(primary[j].dirTMax), nrm(hits[j].normalT);
-      const glm::vec3 x = o + d * std::max(hits[j].normalT.w, 0.0f);
-      shadow[j].originTMin = glm::vec4(x + nrm * (0.5f * img.params[c].offsetScale.w), 0.0f);
-      shadow[j].dirTMax = glm::vec4(toSun, 1e9f);
-      shadowFirst[j] = c;
+  }
+  const PeerInputs pi = peerInputs(embree);
+  const std::vector<gpu_shared::TraceHit> hits = traceFromCascades(pi, primary, first);
+  std::vector<gpu_shared::TraceRay> shadow(hits.size());
+  std::vector<std::uint32_t> shadowFirst(hits.size(), 0);
+  for (std::size_t j = 0; j < hits.size(); ++j) {
+    const std::uint32_t c = (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u;
+    const glm::vec3 o(primary[j].originTMin), d(primary[j].dirTMax), nrm(hits[j].normalT);
+    const glm::vec3 x = o + d * std::max(hits[j].normalT.w, 0.0f);
+    shadow[j].originTMin = glm::vec4(x + nrm * (0.5f * img.params[c].offsetScale.w), 0.0f);
+    shadow[j].dirTMax = glm::vec4(toSun, 1e9f);
+    shadowFirst[j] = c;
+  }
+  const std::vector<gpu_shared::TraceHit> shadowHits = traceFromCascades(pi, shadow, shadowFirst);
+  double cache = 0, model = 0, modelUnshadowed = 0, tri = 0, cosOurs = 0, cosTri = 0, albOurs = 0,
+         albTri = 0, visible = 0;
+  std::size_t counted = 0, missed = 0, far = 0;
+  // By the cascade our hit lands in: the light cache against the model at the hit.
+  const std::size_t nc = img.params.size();
+  std::vector<double> cacheBy(nc, 0.0), modelBy(nc, 0.0);
+  std::vector<std::size_t> countBy(nc, 0), darkBy(nc, 0);
+  // Why black cells are black: the light cache's steps for the cell each hit reads.
+  const std::vector<gpu_shared::GpuLight> gpuLights = toGpu(lights_.lights, img);
+  std::size_t blackOutOfBand = 0, blackFacingAway = 0, blackShadowFiner = 0, blackShadowSame = 0,
+              blackOther = 0, shown = 0, blackLitWithMoreSteps[3] = {};
+  std::string examples;
+  for (std::size_t j = 0; j < hits.size(); ++j) {
+    const std::size_t i = idx[j];
+    if (!(hits[j].flags & gpu_shared::kHitFlagHit)) {
+      ++missed;
+      continue;
     }
-    const std::vector<gpu_shared::TraceHit> shadowHits = traceFromCascades(pi, shadow, shadowFirst);
-    double cache = 0, model = 0, modelUnshadowed = 0, tri = 0, cosOurs = 0, cosTri = 0, albOurs = 0,
-           albTri = 0, visible = 0;
-    std::size_t counted = 0, missed = 0, far = 0;
-    // By the cascade our hit lands in: the light cache against the model at the hit.
-    const std::size_t nc = img.params.size();
-    std::vector<double> cacheBy(nc, 0.0), modelBy(nc, 0.0);
-    std::vector<std::size_t> countBy(nc, 0), darkBy(nc, 0);
-    // Why black cells are black: the light cache's steps for the cell each hit reads.
-    const std::vector<gpu_shared::GpuLight> gpuLights = toGpu(lights_.lights, img);
-    std::size_t blackOutOfBand = 0, blackFacingAway = 0, blackShadowFiner = 0, blackShadowSame = 0,
-                blackOther = 0, shown = 0, blackLitWithMoreSteps[3] = {};
-    std::string examples;
-    for (std::size_t j = 0; j < hits.size(); ++j) {
-      const std::size_t i = idx[j];
-      if (!(hits[j].flags & gpu_shared::kHitFlagHit)) {
-        ++missed;
-        continue;
-      }
-      {
-        const std::uint32_t hc = (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u;
-        const glm::vec3 o(primary[j].originTMin), d(primary[j].dirTMax);
-        const glm::vec3 x0 = o + d * hits[j].normalT.w;
-        const bool shadowLit =
-            (shadowHits[j].flags & (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) ==
-            0u;
-        if (ours[i] <= 0.0f && shadowLit && glm::dot(glm::vec3(hits[j].normalT), toSun) > 0.0f) {
-          const LightCellSteps st = lightCellSteps(img, gpuLights[0], hc, x0);
-          const char* why = "other";
-          if (!st.inBand) {
-            ++blackOutOfBand;
-            why = "out of band";
-          } else if (st.cosine <= 0.0f) {
-            ++blackFacingAway;
-            why = "cell normal faces away";
-          } else if (st.visibility <= 0.0f && st.shadowCascade < hc) {
-            ++blackShadowFiner;
-            why = "shadowed, ray starts in a finer cascade";
-          } else if (st.visibility <= 0.0f) {
-            ++blackShadowSame;
-            why = "shadowed from the cell's surface point";
-            for (int b = 0; b < 3; ++b) {
-              LightCacheSettings more;
-              more.maxShadowSteps = 256u << b;
-              if (lightCellSteps(img, gpuLights[0], hc, x0, more).visibility > 0.0f)
-                ++blackLitWithMoreSteps[b];
-            }
-          } else {
-            ++blackOther;
+    {
+      const std::uint32_t hc = (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u;
+      const glm::vec3 o(primary[j].originTMin), d(primary[j].dirTMax);
+      const glm::vec3 x0 = o + d * hits[j].normalT.w;
+      const bool shadowLit = (shadowHits[j].flags &
+                              (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
+      if (ours[i] <= 0.0f && shadowLit && glm::dot(glm::vec3(hits[j].normalT), toSun) > 0.0f) {
+        const LightCellSteps st = lightCellSteps(img, gpuLights[0], hc, x0);
+        const char* why = "other";
+        if (!st.inBand) {
+          ++blackOutOfBand;
+          why = "out of band";
+        } else if (st.cosine <= 0.0f) {
+          ++blackFacingAway;
+          why = "cell normal faces away";
+        } else if (st.visibility <= 0.0f && st.shadowCascade < hc) {
+          ++blackShadowFiner;
+          why = "shadowed, ray starts in a finer cascade";
+        } else if (st.visibility <= 0.0f) {
+          ++blackShadowSame;
+          why = "shadowed from the cell's surface point";
+          for (int b = 0; b < 3; ++b) {
+            LightCacheSettings more;
+            more.maxShadowSteps = 256u << b;
+            if (lightCellSteps(img, gpuLights[0], hc, x0, more).visibility > 0.0f)
+              ++blackLitWithMoreSteps[b];
           }
-          if (shown < 8) {
-            ++shown;
-            char e[400];
-            std::snprintf(e, sizeof e,
-                          "  - hit (%.1f %.1f %.1f) cascade %u, hit normal (%.2f %.2f %.2f); "
-                          "cell d %.2f, normal (%.2f %.2f %.2f), surface (%.1f %.1f %.1f), "
-                          "cos %.2f, shadow from cascade %u, visibility %.2f: %s\n",
-                          x0.x, x0.y, x0.z, hc, hits[j].normalT.x, hits[j].normalT.y,
-                          hits[j].normalT.z, st.distance, st.normal.x, st.normal.y, st.normal.z,
-                          st.surface0.x, st.surface0.y, st.surface0.z, st.cosine, st.shadowCascade,
-                          st.visibility, why);
-            examples += e;
-          }
+        } else {
+          ++blackOther;
+        }
+        if (shown < 8) {
+          ++shown;
+          char e[400];
+          std::snprintf(e, sizeof e,
+                        "  - hit (%.1f %.1f %.1f) cascade %u, hit normal (%.2f %.2f %.2f); "
+                        "cell d %.2f, normal (%.2f %.2f %.2f), surface (%.1f %.1f %.1f), "
+                        "cos %.2f, shadow from cascade %u, visibility %.2f: %s\n",
+                        x0.x, x0.y, x0.z, hc, hits[j].normalT.x, hits[j].normalT.y,
+                        hits[j].normalT.z, st.distance, st.normal.x, st.normal.y, st.normal.z,
+                        st.surface0.x, st.surface0.y, st.surface0.z, st.cosine, st.shadowCascade,
+                        st.visibility, why);
+          examples += e;
         }
       }
-      if (std::abs(double(hits[j].normalT.w) * img.voxelSize0 - double(triT[i])) >
-          4.0 * img.voxelSize0 * img.params[(hits[j].flags >> 8) & 15u].offsetScale.w)
-        ++far;
-      const std::uint32_t a = hits[j].albedo;
-      const glm::vec3 albedo = reference::srgbToLinear(
-          glm::vec3(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u)) / 255.0f);
-      const float cos = std::max(0.0f, glm::dot(glm::vec3(hits[j].normalT), toSun));
-      const bool lit = (shadowHits[j].flags &
-                        (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
-      const glm::vec3 unshadowed = albedo * sunE * cos * 0.3183098861837907f;
-      const std::uint32_t hc = std::min<std::uint32_t>(
-          (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u, std::uint32_t(nc - 1));
-      cacheBy[hc] += ours[i];
-      modelBy[hc] += lit ? luminance(unshadowed) : 0.0;
-      ++countBy[hc];
-      darkBy[hc] += ours[i] <= 0.0f && lit && cos > 0.0f;
-      cache += ours[i];
-      model += lit ? luminance(unshadowed) : 0.0;
-      modelUnshadowed += luminance(unshadowed);
-      tri += ref[i];
-      cosOurs += cos;
-      cosTri += std::max(0.0f, glm::dot(triNormal[i], toSun));
-      albOurs += luminance(albedo);
-      albTri += luminance(triAlbedo[i]);
-      visible += lit;
-      ++counted;
     }
-    if (counted > 0) {
-      const double c = double(counted);
-      char row[900];
-      std::snprintf(
-          row, sizeof row,
-          "\nThe cage probes' rays that land where the sun reaches on the triangles (%zu; %zu "
-          "of them miss when traced again, %zu hit more than 4 voxels of their cascade from "
-          "Embree's hit), taken apart at our own hit: mean luminance the light cache returned "
-          "%.4g; albedo/pi x E_sun x cos x visibility at our hit %.4g (unshadowed %.4g); the "
-          "triangles %.4g. Factors ours / triangles: albedo %.3f, cos %.3f (%.3f vs %.3f), "
-          "sun visibility through our stack %.3f (the triangles: 1).\n",
-          hits.size(), missed, far, cache / c, model / c, modelUnshadowed / c, tri / c,
-          albTri > 0 ? albOurs / albTri : 0.0, cosTri > 0 ? cosOurs / cosTri : 0.0, cosOurs / c,
-          cosTri / c, visible / c);
-      std::printf("    diagnose:%s", row + 1);
-      into.diagnosis += row;
-      std::string by =
-          "By the cascade our hit lands in: hits, light cache / model at the hit, "
-          "black cells where the model is lit:";
-      for (std::size_t k = 0; k < nc; ++k) {
-        if (countBy[k] == 0) continue;
-        char cell[160];
-        std::snprintf(cell, sizeof cell, " cascade %zu: %zu, %.3f, %zu;", k, countBy[k],
-                      modelBy[k] > 0 ? cacheBy[k] / modelBy[k] : 0.0, darkBy[k]);
-        by += cell;
-      }
-      std::printf("    diagnose: %s\n", by.c_str());
-      into.diagnosis += by + "\n";
-      char why[700];
-      std::snprintf(why, sizeof why,
-                    "Black cells where our hit is sunlit through our stack and faces the sun, "
-                    "by the light cache's own steps: out of the surface band %zu, the cell's "
-                    "normal faces away %zu, shadowed from the cell's surface point with the "
-                    "ray starting in a finer cascade %zu / in the cell's own %zu (of which "
-                    "lit with 256 / 512 / 1024 shadow steps instead of %u: %zu / %zu / %zu), "
-                    "other %zu.\n",
-                    blackOutOfBand, blackFacingAway, blackShadowFiner, blackShadowSame,
-                    LightCacheSettings{}.maxShadowSteps, blackLitWithMoreSteps[0],
-                    blackLitWithMoreSteps[1], blackLitWithMoreSteps[2], blackOther);
-      std::printf("    diagnose: %s%s", why, examples.c_str());
-      into.diagnosis += why + examples;
+    if (std::abs(double(hits[j].normalT.w) * img.voxelSize0 - double(triT[i])) >
+        4.0 * img.voxelSize0 * img.params[(hits[j].flags >> 8) & 15u].offsetScale.w)
+      ++far;
+    const std::uint32_t a = hits[j].albedo;
+    const glm::vec3 albedo = reference::srgbToLinear(
+        glm::vec3(float(a & 255u), float(a >> 8 & 255u), float(a >> 16 & 255u)) / 255.0f);
+    const float cos = std::max(0.0f, glm::dot(glm::vec3(hits[j].normalT), toSun));
+    const bool lit =
+        (shadowHits[j].flags & (gpu_shared::kHitFlagHit | gpu_shared::kHitFlagRanOutOfSteps)) == 0u;
+    const glm::vec3 unshadowed = albedo * sunE * cos * 0.3183098861837907f;
+    const std::uint32_t hc = std::min<std::uint32_t>(
+        (hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u, std::uint32_t(nc - 1));
+    cacheBy[hc] += ours[i];
+    modelBy[hc] += lit ? luminance(unshadowed) : 0.0;
+    ++countBy[hc];
+    darkBy[hc] += ours[i] <= 0.0f && lit && cos > 0.0f;
+    cache += ours[i];
+    model += lit ? luminance(unshadowed) : 0.0;
+    modelUnshadowed += luminance(unshadowed);
+    tri += ref[i];
+    cosOurs += cos;
+    cosTri += std::max(0.0f, glm::dot(triNormal[i], toSun));
+    albOurs += luminance(albedo);
+    albTri += luminance(triAlbedo[i]);
+    visible += lit;
+    ++counted;
+  }
+  if (counted > 0) {
+    const double c = double(counted);
+    char row[900];
+    std::snprintf(
+        row, sizeof row,
+        "\nThe cage probes' rays that land where the sun reaches on the triangles (%zu; %zu "
+        "of them miss when traced again, %zu hit more than 4 voxels of their cascade from "
+        "Embree's hit), taken apart at our own hit: mean luminance the light cache returned "
+        "%.4g; albedo/pi x E_sun x cos x visibility at our hit %.4g (unshadowed %.4g); the "
+        "triangles %.4g. Factors ours / triangles: albedo %.3f, cos %.3f (%.3f vs %.3f), "
+        "sun visibility through our stack %.3f (the triangles: 1).\n",
+        hits.size(), missed, far, cache / c, model / c, modelUnshadowed / c, tri / c,
+        albTri > 0 ? albOurs / albTri : 0.0, cosTri > 0 ? cosOurs / cosTri : 0.0, cosOurs / c,
+        cosTri / c, visible / c);
+    std::printf("    diagnose:%s", row + 1);
+    into.diagnosis += row;
+    std::string by =
+        "By the cascade our hit lands in: hits, light cache / model at the hit, "
+        "black cells where the model is lit:";
+    for (std::size_t k = 0; k < nc; ++k) {
+      if (countBy[k] == 0) continue;
+      char cell[160];
+      std::snprintf(cell, sizeof cell, " cascade %zu: %zu, %.3f, %zu;", k, countBy[k],
+                    modelBy[k] > 0 ? cacheBy[k] / modelBy[k] : 0.0, darkBy[k]);
+      by += cell;
     }
+    std::printf("    diagnose: %s\n", by.c_str());
+    into.diagnosis += by + "\n";
+    char why[700];
+    std::snprintf(why, sizeof why,
+                  "Black cells where our hit is sunlit through our stack and faces the sun, "
+                  "by the light cache's own steps: out of the surface band %zu, the cell's "
+                  "normal faces away %zu, shadowed from the cell's surface point with the "
+                  "ray starting in a finer cascade %zu / in the cell's own %zu (of which "
+                  "lit with 256 / 512 / 1024 shadow steps instead of %u: %zu / %zu / %zu), "
+                  "other %zu.\n",
+                  blackOutOfBand, blackFacingAway, blackShadowFiner, blackShadowSame,
+                  LightCacheSettings{}.maxShadowSteps, blackLitWithMoreSteps[0],
+                  blackLitWithMoreSteps[1], blackLitWithMoreSteps[2], blackOther);
+    std::printf("    diagnose: %s%s", why, examples.c_str());
+    into.diagnosis += why + examples;
   }
 }
 
@@ -392,72 +394,69 @@ void ConfigRun::diagnoseFrameAgainstStored(SceneReport& into, const RayCompariso
   const auto& ours = c.ours;
   const auto& ref = c.ref;
   const std::uint32_t perVolume = cfg_.probes.probesPerVolume(), n = cfg_.probes.raysPerProbe;
-  {
-    const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    std::vector<gpu_shared::ProbeQuery> q;
-    std::vector<double> frameOurs, frameRef;
-    for (std::size_t l = 0; l < rec.list.size(); ++l) {
-      const std::uint32_t g = rec.list[l];
-      const LiveProbe p = probeAt(f, perVolume, g, data[g]);
-      if (!cage.count(p.cascade * perVolume + p.cell)) continue;
-      for (const glm::vec3& a : axes) {
-        double so = 0, sr = 0, sw = 0;
-        for (std::uint32_t k = 0; k < n; ++k) {
-          const std::size_t i = l * n + k;
-          const float c = glm::dot(glm::normalize(glm::vec3(rec.directions[i])), a);
-          if (c <= 0.0f) continue;
-          so += c * ours[i];
-          sr += c * ref[i];
-          sw += c;
-        }
-        if (sw <= 0) continue;
-        frameOurs.push_back(3.14159265 * so / sw);
-        frameRef.push_back(3.14159265 * sr / sw);
-        q.push_back(
-            {glm::vec4(p.stack, float(1 + p.cascade)), glm::vec4(a, 0.0f), glm::vec4(a, 0.0f)});
+  std::vector<gpu_shared::ProbeQuery> q;
+  std::vector<double> frameOurs, frameRef;
+  for (std::size_t l = 0; l < rec.list.size(); ++l) {
+    const std::uint32_t g = rec.list[l];
+    const LiveProbe p = probeAt(f, perVolume, g, data[g]);
+    if (!cage.count(p.cascade * perVolume + p.cell)) continue;
+    for (const glm::vec3& a : kAxes) {
+      double so = 0, sr = 0, sw = 0;
+      for (std::uint32_t k = 0; k < n; ++k) {
+        const std::size_t i = l * n + k;
+        const float c = glm::dot(glm::normalize(glm::vec3(rec.directions[i])), a);
+        if (c <= 0.0f) continue;
+        so += c * ours[i];
+        sr += c * ref[i];
+        sw += c;
       }
+      if (sw <= 0) continue;
+      frameOurs.push_back(3.14159265 * so / sw);
+      frameRef.push_back(3.14159265 * sr / sw);
+      q.push_back(
+          {glm::vec4(p.stack, float(1 + p.cascade)), glm::vec4(a, 0.0f), glm::vec4(a, 0.0f)});
     }
-    if (!q.empty()) {
-      const std::vector<glm::vec3> stored = gi_.irradiance(q);
-      double st = 0, fo = 0, fr = 0;
-      for (std::size_t i = 0; i < q.size(); ++i) {
-        st += luminance(stored[i]);
-        fo += frameOurs[i];
-        fr += frameRef[i];
-      }
-      char row[400];
-      std::snprintf(row, sizeof row,
-                    "\nThe cage probes' irradiance (6 axis normals, %zu): stored %.4g; from this "
-                    "frame's rays alone, ours %.4g and on the triangles %.4g (stored / this "
-                    "frame's ours %.3f: the temporal blend; ours / triangles %.3f: the rays).\n",
-                    q.size(), st / double(q.size()), fo / double(q.size()), fr / double(q.size()),
-                    fo > 0 ? st / fo : 0.0, fr > 0 ? fo / fr : 0.0);
-      std::printf("    diagnose:%s", row + 1);
-      into.diagnosis += row;
-      // By quartile of the stored value: the brightest probes dominate the sums above; a blend
-      // biased low where few rays bring the light shows as stored well below this frame's.
-      std::vector<std::size_t> idx(q.size());
-      for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-      std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
-        return luminance(stored[a]) < luminance(stored[b]);
-      });
-      std::string quart =
-          "By quartile of the stored value (darkest first), stored / ours-this-frame / "
-          "triangles:";
-      for (int qi = 0; qi < 4; ++qi) {
-        double a = 0, b = 0, c = 0;
-        for (std::size_t j = idx.size() * qi / 4; j < idx.size() * (qi + 1) / 4; ++j) {
-          a += luminance(stored[idx[j]]);
-          b += frameOurs[idx[j]];
-          c += frameRef[idx[j]];
-        }
-        char cell[120];
-        std::snprintf(cell, sizeof cell, " %.3g / %.3g / %.3g;", a, b, c);
-        quart += cell;
-      }
-      std::printf("    diagnose: %s\n", quart.c_str());
-      into.diagnosis += quart + "\n";
+  }
+  if (!q.empty()) {
+    const std::vector<glm::vec3> stored = gi_.irradiance(q);
+    double st = 0, fo = 0, fr = 0;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      st += luminance(stored[i]);
+      fo += frameOurs[i];
+      fr += frameRef[i];
     }
+    char row[400];
+    std::snprintf(row, sizeof row,
+                  "\nThe cage probes' irradiance (6 axis normals, %zu): stored %.4g; from this "
+                  "frame's rays alone, ours %.4g and on the triangles %.4g (stored / this "
+                  "frame's ours %.3f: the temporal blend; ours / triangles %.3f: the rays).\n",
+                  q.size(), st / double(q.size()), fo / double(q.size()), fr / double(q.size()),
+                  fo > 0 ? st / fo : 0.0, fr > 0 ? fo / fr : 0.0);
+    std::printf("    diagnose:%s", row + 1);
+    into.diagnosis += row;
+    // By quartile of the stored value: the brightest probes dominate the sums above; a blend
+    // biased low where few rays bring the light shows as stored well below this frame's.
+    std::vector<std::size_t> idx(q.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) {
+      return luminance(stored[a]) < luminance(stored[b]);
+    });
+    std::string quart =
+        "By quartile of the stored value (darkest first), stored / ours-this-frame / "
+        "triangles:";
+    for (int qi = 0; qi < 4; ++qi) {
+      double a = 0, b = 0, c = 0;
+      for (std::size_t j = idx.size() * qi / 4; j < idx.size() * (qi + 1) / 4; ++j) {
+        a += luminance(stored[idx[j]]);
+        b += frameOurs[idx[j]];
+        c += frameRef[idx[j]];
+      }
+      char cell[120];
+      std::snprintf(cell, sizeof cell, " %.3g / %.3g / %.3g;", a, b, c);
+      quart += cell;
+    }
+    std::printf("    diagnose: %s\n", quart.c_str());
+    into.diagnosis += quart + "\n";
   }
 }
 
@@ -678,7 +677,6 @@ void ConfigRun::diagnoseProbeIrradiance(SceneReport& into) {
   std::vector<LiveProbe> inCage;
   for (const LiveProbe& p : live)
     if (cage.count(p.cascade * perVolume + p.cell)) inCage.push_back(p);
-  const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   std::string s =
       "\nIrradiance at the probes themselves (sampled at each probe's position, 6 axis "
       "normals, up to 512 probes per set) against the reference there, mean luminance, by the "
@@ -718,7 +716,7 @@ void ConfigRun::diagnoseProbeIrradiance(SceneReport& into) {
     std::vector<glm::vec3> positions, normals;
     std::vector<std::uint32_t> cascadeOf;
     for (std::size_t i = 0; i < probes.size(); i += stride)
-      for (const glm::vec3& n : axes) {
+      for (const glm::vec3& n : kAxes) {
         queries.push_back(
             {glm::vec4(probes[i].stack, 0.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f)});
         positions.push_back(

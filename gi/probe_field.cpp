@@ -10,8 +10,7 @@ constexpr std::uint32_t kBindings = 28;  // 22 probe + 6 object (probe_bindings.
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
-  return gpu::ComputePipeline(ctx, id,
-                              gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
+  return gpu::ComputePipeline(ctx, id, gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
 }
 
 gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
@@ -70,30 +69,13 @@ void ProbeField::reset() {
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                                      const gpu::Buffer& light) {
-  std::vector<const gpu::Buffer*> b = {&frame_,
-                                       &volumes_,
-                                       &data_,
-                                       &history_,
-                                       &irradiance_,
-                                       &depth_,
-                                       &rays_,
-                                       &cache_,
-                                       &rotations_,
-                                       &list_,
-                                       &statsBuffer_,
-                                       &pageChanged_,
-                                       &scene.pageTables(),
-                                       &scene.distance(),
-                                       &scene.albedo(),
-                                       &scene.emission(),
-                                       &scene.params(),
-                                       &light,
-                                       &queries_,
-                                       &results_,
-                                       &dispatchArgs_,
-                                       &rayDirs_};
-  for (const gpu::Buffer* o :
-       objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
+  std::vector<const gpu::Buffer*> b = {
+      &frame_,          &volumes_,         &data_,         &history_,          &irradiance_,
+      &depth_,          &rays_,            &cache_,        &rotations_,        &list_,
+      &statsBuffer_,    &pageChanged_,     &scene.pageTables(), &scene.distance(), &scene.albedo(),
+      &scene.emission(), &scene.params(),  &light,         &queries_,          &results_,
+      &dispatchArgs_,   &rayDirs_};
+  for (const gpu::Buffer* o : objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
     b.push_back(o);
   return b;
 }
@@ -117,9 +99,8 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   if (objects_ && objects_->active()) {
-    lastFrame_.constants.options.x |=
-        gpu_shared::kProbeOptionObjects |
-        (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
+    lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
+                                      (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
     if (objects_->settings().naiveTraversal)
       lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjectsNaive;
   }
@@ -128,8 +109,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   staging.upload(batch, rotations_, std::span(std::as_const(lastFrame_.rotations)));
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
   while (statsReadback_.size() < staging.framesInFlight())
-    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4,
-                                gpu::BufferKind::Readback);
+    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback);
 
   const std::vector<const gpu::Buffer*> b = bindings(scene, light);
   const std::uint32_t probes = std::uint32_t(sizes_.probes);
