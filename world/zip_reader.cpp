@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
 #include <stb/stb_image.h>  // stbi_zlib_decode_noheader_malloc: raw deflate
 
 #include "core/error.h"
+#include "core/printable.h"
 
 namespace sdfstream {
 namespace {
@@ -21,8 +21,17 @@ std::uint32_t le(const std::uint8_t* p, int bytes) {
   return v;
 }
 
+std::uint64_t fileSize(std::ifstream& in) {
+  in.clear();
+  in.seekg(0, std::ios::end);
+  return std::uint64_t(in.tellg());
+}
+
+// n bytes at offset; the range is checked against the file before anything is allocated.
 std::vector<std::uint8_t> readAt(std::ifstream& in, const std::string& file, std::uint64_t offset,
                                  std::size_t n) {
+  if (offset > fileSize(in) || n > fileSize(in) - offset)
+    throw InputError(Kind::Truncated, file, "ends before offset " + std::to_string(offset + n));
   std::vector<std::uint8_t> bytes(n);
   in.clear();
   in.seekg(std::streamoff(offset));
@@ -44,8 +53,7 @@ std::ifstream open(const std::filesystem::path& zip) {
 std::vector<ZipMember> listZip(const std::filesystem::path& zip) {
   const std::string file = zip.string();
   std::ifstream in = open(zip);
-  in.seekg(0, std::ios::end);
-  const std::uint64_t size = std::uint64_t(in.tellg());
+  const std::uint64_t size = fileSize(in);
   // The end-of-central-directory record is 22 bytes plus a comment of at most 65535.
   const std::size_t tail = std::size_t(std::min<std::uint64_t>(size, 22 + 65535));
   const std::vector<std::uint8_t> end = readAt(in, file, size - tail, tail);
@@ -83,7 +91,12 @@ std::vector<ZipMember> listZip(const std::filesystem::path& zip) {
 }
 
 std::vector<std::uint8_t> readZipMember(const std::filesystem::path& zip, const ZipMember& member) {
-  const std::string file = zip.string() + "!" + member.name;
+  // The name comes from the archive: it may hold a newline or be 64 KiB long.
+  const std::string file = zip.string() + "!" + printable(member.name);
+  if (member.compressedSize > kMaxZipMemberBytes || member.size > kMaxZipMemberBytes)
+    throw InputError(Kind::TooLarge, file,
+                     "member declares " + std::to_string(std::max(member.compressedSize, member.size)) +
+                         " bytes, more than the " + std::to_string(kMaxZipMemberBytes) + " read");
   std::ifstream in = open(zip);
   const std::vector<std::uint8_t> local = readAt(in, file, member.localHeaderOffset, 30);
   if (le(local.data(), 4) != 0x04034b50u)
@@ -95,15 +108,14 @@ std::vector<std::uint8_t> readZipMember(const std::filesystem::path& zip, const 
   if (member.method != 8)
     throw InputError(Kind::Malformed, file,
                      "unsupported compression method " + std::to_string(member.method));
-  int outLen = 0;
-  char* out = stbi_zlib_decode_noheader_malloc(reinterpret_cast<const char*>(packed.data()),
-                                               int(packed.size()), &outLen);
-  if (!out || std::uint32_t(outLen) != member.size) {
-    std::free(out);
+  // Into a buffer of the declared size (bounded above), so a deflate bomb cannot grow it: stb
+  // fails when the data would overrun it. Both sizes fit in int (kMaxZipMemberBytes).
+  std::vector<std::uint8_t> bytes(member.size);
+  const int got = stbi_zlib_decode_noheader_buffer(
+      reinterpret_cast<char*>(bytes.data()), int(bytes.size()),
+      reinterpret_cast<const char*>(packed.data()), int(packed.size()));
+  if (got < 0 || std::uint32_t(got) != member.size)
     throw InputError(Kind::Malformed, file, "corrupt deflate data");
-  }
-  std::vector<std::uint8_t> bytes(out, out + outLen);
-  std::free(out);
   return bytes;
 }
 
