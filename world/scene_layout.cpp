@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/printable.h"
 #include "world/gltf_import.h"
 #include "world/obj_import.h"
 
@@ -27,16 +28,21 @@ using Kind = InputErrorKind;
 struct Reader {
   std::string file;
 
+  // The key path holds the file's own keys, which may hold a newline: quoted printable so the
+  // error stays one line.
   [[noreturn]] void fail(Kind kind, const std::string& key, const std::string& problem) const {
-    throw InputError(kind, file, key + ": " + problem);
+    throw InputError(kind, file, printable(key) + ": " + problem);
   }
 
   void onlyKeys(const Json& obj, const std::string& path,
                 std::initializer_list<const char*> allowed) const {
     if (!obj.is_object()) fail(Kind::Malformed, path, "expected an object");
-    for (const auto& [key, value] : obj.items())
+    // Not a structured binding: clang 14 (the fuzz build's compiler) cannot capture one.
+    for (const auto& item : obj.items()) {
+      const std::string& key = item.key();
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
         fail(Kind::Malformed, path + "." + key, "unknown key");
+    }
   }
 
   double number(const Json& v, const std::string& key) const {
@@ -120,7 +126,7 @@ LayoutAsset readAsset(const Reader& r, const Json& a, const std::string& path,
   if (asset.file.is_relative()) asset.file = dir / asset.file;
   std::error_code ec;
   if (!std::filesystem::exists(asset.file, ec))
-    r.fail(Kind::MissingData, path + ".file", asset.file.string() + " does not exist");
+    r.fail(Kind::MissingData, path + ".file", printable(asset.file.string()) + " does not exist");
   return asset;
 }
 
@@ -135,7 +141,7 @@ HeightfieldDesc readTerrain(const Reader& r, const Json& t, const std::filesyste
   if (desc.png.is_relative()) desc.png = dir / desc.png;
   std::error_code ec;
   if (!std::filesystem::exists(desc.png, ec))
-    r.fail(Kind::MissingData, path + ".heightmap", desc.png.string() + " does not exist");
+    r.fail(Kind::MissingData, path + ".heightmap", printable(desc.png.string()) + " does not exist");
   auto required = [&](const char* key) {
     auto it = t.find(key);
     if (it == t.end()) r.fail(Kind::Malformed, path + "." + key, "required");
@@ -190,6 +196,11 @@ ParsedLayout parseLayout(const std::filesystem::path& jsonFile) {
     if (auto colon = reason.find(": "); colon != std::string::npos) reason.erase(0, colon + 2);
     throw InputError(Kind::Malformed, r.file,
                      "invalid JSON at " + detail::jsonLineColumn(text, e.byte) + ": " + reason);
+  } catch (const Json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range (406).
+    std::string reason = e.what();
+    if (auto colon = reason.find("] "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(Kind::Malformed, r.file, "invalid JSON: " + printable(reason));
   }
   if (!root.is_object()) throw InputError(Kind::Malformed, r.file, "top level is not an object");
   r.onlyKeys(root, "layout", {"assets", "instances", "boxes", "terrain", "comment"});
