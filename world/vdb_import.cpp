@@ -10,6 +10,7 @@
 #include <openvdb/tools/GridTransformer.h>
 
 #include "core/error.h"
+#include "core/printable.h"
 #include "world/color_pack.h"
 #include "world/level_set_bricks.h"
 
@@ -46,12 +47,13 @@ bool looksLikeLevelSet(const openvdb::FloatGrid& grid) {
 }
 
 std::string describe(const openvdb::GridBase& grid) {
-  const std::string name = "'" + grid.getName() + "'";
+  // Grid names and value types come from the file: printable keeps the error one line.
+  const std::string name = "'" + printable(grid.getName()) + "'";
   if (grid.valueType().rfind("ptdataidx", 0) == 0) return "point data " + name;
   std::string cls = grid.getGridClass() == openvdb::GRID_UNKNOWN
                         ? std::string("grid")
                         : openvdb::GridBase::gridClassToString(grid.getGridClass());
-  return cls + " " + name + " (" + grid.valueType() + ")";
+  return cls + " " + name + " (" + printable(grid.valueType()) + ")";
 }
 
 }  // namespace
@@ -64,7 +66,7 @@ std::string kindOf(const openvdb::GridBase& grid) {
   if (grid.getGridClass() != openvdb::GRID_UNKNOWN)
     return openvdb::GridBase::gridClassToString(grid.getGridClass());
   if (grid.isType<openvdb::FloatGrid>()) return "float grid, not a level set";
-  return grid.valueType() + " grid";
+  return printable(grid.valueType()) + " grid";
 }
 
 }  // namespace
@@ -97,7 +99,7 @@ LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
         continue;
       }
       holds += (holds.empty() ? "" : ", ") + describe(*g);
-      out.skipped.push_back("'" + g->getName() + "' (" + kindOf(*g) + ")");
+      out.skipped.push_back("'" + printable(g->getName()) + "' (" + kindOf(*g) + ")");
     }
     if (out.grids.empty())
       throw InputError(
@@ -107,7 +109,7 @@ LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
     throw;
   } catch (const std::exception& e) {  // openvdb::Exception (IoError, ...) and std exceptions
     throw InputError(InputErrorKind::Truncated, file,
-                     std::string("truncated or corrupt .vdb: ") + e.what());
+                     "truncated or corrupt .vdb: " + printable(e.what()));
   }
   return out;
 }
@@ -150,7 +152,7 @@ World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
       openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*grid, *out);
     } catch (const std::exception& e) {
       throw InputError(InputErrorKind::Malformed, file,
-                       std::string("cannot resample level set: ") + e.what());
+                       "cannot resample level set: " + printable(e.what()));
     }
     grid = out;
   }

@@ -102,6 +102,28 @@ TEST(VdbImport, TruncatedFile) {
   }
 }
 
+// A grid's name comes from the file; one holding a newline made the NotLevelSet error two lines,
+// which breaks fuzz/vdb_fuzz.cpp's one-line contract. It is now quoted printable.
+TEST(VdbImport, GridNameWithNewlineKeepsTheErrorOneLine) {
+  openvdb::initialize();
+  auto fog = openvdb::FloatGrid::create(0.0f);
+  fog->setName("den\nsity");
+  fog->setGridClass(openvdb::GRID_FOG_VOLUME);
+  fog->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
+  const fs::path path = test::scratchDir("vdb-grid-name") / "fog.vdb";
+  openvdb::io::File(path.string()).write({fog});
+  try {
+    vdbToWorld(path, 0, {});
+    ADD_FAILURE() << "a fog volume imported";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.kind(), InputErrorKind::NotLevelSet) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    EXPECT_NE(what.find("'den\\x0asity'"), std::string::npos) << what;
+    EXPECT_EQ(what.rfind(path.string(), 0), 0u) << what;
+  }
+}
+
 TEST(VdbImport, VoxelSizeOverrideResamples) {
   SDFSTREAM_REQUIRE_SHARED_DATA("vdb/sphere.vdb");
   const fs::path path = test::sharedData() / "vdb/sphere.vdb";
