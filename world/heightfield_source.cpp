@@ -11,6 +11,7 @@
 #include <stb_image.h>
 
 #include "core/error.h"
+#include "core/printable.h"
 #include "world/color_pack.h"
 
 namespace sdfstream {
@@ -32,6 +33,10 @@ float hash01(std::int64_t i, std::int64_t j) {
   h ^= h >> 32;
   return float(h >> 40) / float(1 << 24);
 }
+
+// stb's reason for the last failure, printable: for an unknown PNG chunk stb puts the chunk's
+// four type bytes from the file into it ("\n]gX PNG chunk not known").
+std::string stbReason() { return printable(stbi_failure_reason()); }
 
 class HeightfieldSource final : public SdfSource {
  public:
@@ -157,22 +162,28 @@ Heightfield Heightfield::load(const HeightfieldDesc& desc) {
   std::error_code ec;
   if (!probe || std::filesystem::is_directory(desc.png, ec))
     throw InputError(Kind::Io, file, std::string("cannot open: ") + std::strerror(errno));
+  // PNG only (see heightfield_source.h): the signature decides before stb sees the file.
+  constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  unsigned char signature[8] = {};
+  probe.read(reinterpret_cast<char*>(signature), 8);
+  if (probe.gcount() != 8 || std::memcmp(signature, kPngSignature, 8) != 0)
+    throw InputError(Kind::Malformed, file, "not a PNG file (a heightmap must be a PNG)");
   probe.close();
   int w = 0, h = 0, channels = 0;
   if (stbi_info(file.c_str(), &w, &h, &channels) == 0)
-    throw InputError(Kind::Malformed, file,
-                     std::string("not a decodable image: ") + stbi_failure_reason());
+    throw InputError(Kind::Malformed, file, "not a decodable image: " + stbReason());
   if (w < 2 || h < 2)
     throw InputError(Kind::Empty, file,
                      "a heightmap needs at least 2x2 pixels, this one has " + std::to_string(w) +
                          "x" + std::to_string(h));
-  if (double(w) * double(h) > double(1 << 28))
-    throw InputError(Kind::TooLarge, file, "more than 2^28 pixels");
+  if (double(w) * double(h) > kMaxPixels)
+    throw InputError(Kind::TooLarge, file,
+                     std::to_string(w) + "x" + std::to_string(h) + " pixels, more than the " +
+                         std::to_string(std::int64_t(kMaxPixels)) + " a heightmap may have");
   // stbi_load_16 widens 8-bit images to 16 bits (v·257), so full scale is always 65535.
   stbi_us* data = stbi_load_16(file.c_str(), &w, &h, &channels, 1);
   if (!data)
-    throw InputError(Kind::Malformed, file,
-                     std::string("cannot decode image: ") + stbi_failure_reason());
+    throw InputError(Kind::Malformed, file, "cannot decode image: " + stbReason());
   std::vector<float> heights(std::size_t(w) * h);
   for (std::size_t i = 0; i < heights.size(); ++i)
     heights[i] = float(double(data[i]) / 65535.0 * desc.heightScale);

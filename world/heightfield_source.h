@@ -45,10 +45,17 @@ class Heightfield {
   Heightfield(int width, int height, std::vector<float> heights, double metresPerPixel,
               glm::dvec3 origin);
 
+  // The most pixels a heightmap may have (16384²). Loading costs about 15 bytes a pixel at peak
+  // (stb's 8- and 16-bit buffers, heights, gradients), so this is ~4 GiB: a real terrain fits,
+  // and the size is refused from the header before anything is decoded.
+  static constexpr double kMaxPixels = double(1 << 28);
+
   // Reads desc.png with stb_image. Throws InputError naming the file: Io (cannot open),
-  // Malformed (not a decodable image; stb's reason given), Empty (fewer than 2×2 pixels),
-  // TooLarge (more than 2^28 pixels), Malformed for metresPerPixel ≤ 0 / heightScale < 0.
-  // Safe on untrusted input (stb_image's own bounds checks).
+  // Malformed (no PNG signature, or not decodable; stb's reason given), Empty (fewer than 2×2
+  // pixels), TooLarge (more than kMaxPixels), Malformed for metresPerPixel ≤ 0 / heightScale < 0.
+  // Safe on untrusted input: PNG only, because stb's other decoders (BMP, TGA, PSD, ...) accept a
+  // file that ends right after a header declaring 16384² pixels and return zeros for the rest,
+  // and a PNG's pixels must all be present (so their count is bounded by the file's size).
   static Heightfield load(const HeightfieldDesc& desc);
 
   int width() const { return width_; }

@@ -269,5 +269,46 @@ TEST(Heightfield, BadImagesNameTheFile) {
       Kind::Malformed);
 }
 
+// Over-limit allocation, found reviewing what fuzz/heightmap_fuzz.cpp reaches: stb's BMP decoder
+// (like its TGA and PSD ones) accepts a file that ends right after a header declaring many pixels and returns
+// zeros, so 1 KB declaring 16384² pixels cost ~4 GiB. Heightmaps are PNG only now; this one
+// declares 2048² so that without the check it would load (flat) instead of failing.
+TEST(Heightfield, TruncatedBmpIsNotAHeightmap) {
+  std::string bmp(54 + 1024, '\0');
+  auto put = [&](std::size_t at, std::uint32_t v, int n) {
+    for (int i = 0; i < n; ++i) bmp[at + std::size_t(i)] = char(v >> (8 * i));
+  };
+  bmp[0] = 'B', bmp[1] = 'M';
+  put(2, std::uint32_t(bmp.size()), 4), put(10, 54 + 1024, 4);  // file size, pixel offset
+  put(14, 40, 4), put(18, 2048, 4), put(22, 2048, 4);            // info header: 2048 × 2048
+  put(26, 1, 2), put(28, 8, 2), put(46, 256, 4);                 // 1 plane, 8 bits, palette
+  const fs::path dir = test::scratchDir("hf-bmp");
+  test::writeText(dir / "flat.png", bmp);
+  const std::string msg = test::expectInputError(
+      [&] { Heightfield::load(HeightfieldDesc{dir / "flat.png", 1.0, 1.0, glm::dvec3(0.0), {}}); },
+      Kind::Malformed);
+  EXPECT_NE(msg.find("flat.png: not a PNG file"), std::string::npos) << msg;
+}
+
+// Fuzz finding (heightmap_fuzz, within seconds): for an unknown critical PNG chunk stb's failure
+// reason holds the chunk's four type bytes from the file, here a newline, which made the error
+// two lines.
+TEST(Heightfield, UnknownChunkTypeKeepsTheErrorOneLine) {
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  auto chunk = [&](const std::string& type, const std::string& data) {
+    for (int shift : {24, 16, 8, 0}) png += char(data.size() >> shift);
+    png += type + data + std::string(4, '\0');  // stb does not check the CRC
+  };
+  chunk("IHDR", std::string("\0\0\0\4\0\0\0\4\x08\0\0\0\0", 13));  // 4x4, 8-bit grey
+  chunk("\nAAA", "");  // upper-case first letter bit clear: critical, so stb refuses it
+  const fs::path dir = test::scratchDir("hf-chunk");
+  test::writeText(dir / "chunk.png", png);
+  const std::string msg = test::expectInputError(
+      [&] { Heightfield::load(HeightfieldDesc{dir / "chunk.png", 1.0, 1.0, glm::dvec3(0.0), {}}); },
+      Kind::Malformed);
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  EXPECT_NE(msg.find("\\x0aAAA PNG chunk not known"), std::string::npos) << msg;
+}
+
 }  // namespace
 }  // namespace sdfstream
