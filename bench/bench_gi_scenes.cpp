@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "shaders/shared/light_layout.h"
 #include "world/cornell_light.h"
 #include "world/gltf_import.h"
 #include "world/mesh_source.h"
@@ -218,7 +219,13 @@ std::optional<BenchScene> gltfScene(const std::string& name, const fs::path& fil
   b.lods = lods;
   b.defaultCascades = defaultCascades;
   b.cascadeSweep = std::move(sweep);
-  b.lights.lights.push_back(key);
+  // A file with lights of its own (KHR_lights_punctual) is lit by them, GI and reference alike;
+  // the scene's key light stands in only where it has none.
+  const bool ownLights = !s.lights.empty() && s.lights.size() <= gpu_shared::kMaxLights;
+  if (ownLights)
+    b.lights.lights = s.lights;
+  else
+    b.lights.lights.push_back(key);
   b.lights.sky = daySky();
   for (auto& [camName, cam] : gltfCameras(file)) {
     if (b.views.size() >= maxViews) break;
@@ -236,7 +243,10 @@ std::optional<BenchScene> gltfScene(const std::string& name, const fs::path& fil
   b.streamCamera = 0.5 * (glm::dvec3(s.boundsMin()) + glm::dvec3(s.boundsMax()));
   b.viewDirection = glm::normalize(b.views[0].forward);
   b.description = file.filename().string() + " (" + std::to_string(s.triangles.size()) +
-                  " triangles, views: the file's cameras); sun (hard shadows) + sky";
+                  " triangles, views: the file's cameras); " +
+                  (ownLights ? std::to_string(s.lights.size()) + " lights of the file's own"
+                             : std::string("sun (hard shadows)")) +
+                  " + sky";
   b.triangles = std::make_unique<TriangleScene>(std::move(s));
   return b;
 }

@@ -1,10 +1,15 @@
 #include "core/atomic_dir.h"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <atomic>
 #include <cstdio>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -20,10 +25,55 @@ fs::path siblingName(const fs::path& dest, const char* tag) {
   return clean.parent_path() / (clean.filename().string() + tag + std::to_string(::getpid()) + "-" +
                                 std::to_string(gCounter++));
 }
+
+// The pid in "<name><tag><pid>-<n>", or 0 when `entry` is not such a sibling of `name`.
+pid_t siblingPid(const std::string& entry, const std::string& name, const std::string& tag) {
+  const std::string prefix = name + tag;
+  if (entry.compare(0, prefix.size(), prefix) != 0) return 0;
+  const std::string rest = entry.substr(prefix.size());
+  const std::size_t dash = rest.find('-');
+  if (dash == 0 || dash == std::string::npos ||
+      rest.find_first_not_of("0123456789") != dash ||
+      rest.find_first_not_of("0123456789", dash + 1) != std::string::npos || dash + 1 == rest.size())
+    return 0;
+  try {
+    return pid_t(std::stol(rest.substr(0, dash)));
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+bool processGone(pid_t pid) { return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH; }
 }  // namespace
+
+void recoverInterruptedOutput(const fs::path& destination) {
+  fs::path dest = destination.lexically_normal();
+  if (dest.filename().empty()) dest = dest.parent_path();
+  const fs::path dir = dest.parent_path().empty() ? fs::path(".") : dest.parent_path();
+  const std::string name = dest.filename().string();
+  std::error_code ec;
+  std::vector<fs::path> stale, backups;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string entry = it->path().filename().string();
+    if (const pid_t pid = siblingPid(entry, name, ".tmp-"); pid > 0 && processGone(pid))
+      stale.push_back(it->path());
+    else if (const pid_t old = siblingPid(entry, name, ".old-"); old > 0 && processGone(old))
+      backups.push_back(it->path());
+  }
+  for (const fs::path& p : stale) fs::remove_all(p, ec);
+  // A backup whose writer died between its two renames is the only copy of the previous output:
+  // put it back. Once the new output is in place, a leftover backup is just garbage.
+  for (const fs::path& p : backups) {
+    if (!fs::exists(dest, ec))
+      fs::rename(p, dest, ec);
+    else
+      fs::remove_all(p, ec);
+  }
+}
 
 AtomicDirectory::AtomicDirectory(fs::path dest) : dest_(std::move(dest)) {
   if (dest_.filename().empty()) dest_ = dest_.parent_path();
+  recoverInterruptedOutput(dest_);
   staging_ = siblingName(dest_, ".tmp-");
   std::error_code ec;
   if (!dest_.parent_path().empty()) fs::create_directories(dest_.parent_path(), ec);

@@ -1,6 +1,7 @@
 // Atomic directory output: build everything in a sibling temp directory, then rename it into
 // place. A failure (exception or crash) before commit() leaves the destination untouched and
-// the temp directory is removed by the destructor (RAII), so "nothing is lost".
+// the temp directory is removed by the destructor (RAII), so "nothing is lost"; what a killed
+// process leaves behind is cleaned up by the next writer of the same destination.
 #pragma once
 
 #include <filesystem>
@@ -28,6 +29,13 @@ class AtomicDirectory {
   std::filesystem::path staging_;
   bool committed_ = false;
 };
+
+// What a process killed while writing `dest` through an AtomicDirectory leaves beside it, put
+// right: staging directories ("<dest>.tmp-<pid>-<n>") of processes that no longer exist are
+// removed; a backup ("<dest>.old-<pid>-<n>", made during commit) is renamed back to dest when
+// dest is missing (the writer died between its two renames) and removed otherwise. Siblings of
+// live processes are left alone. The AtomicDirectory constructor calls it; best effort, no throw.
+void recoverInterruptedOutput(const std::filesystem::path& dest);
 
 // Writes bytes to path through a temp file + rename (used for single files).
 void writeFileAtomically(const std::filesystem::path& path, const void* data, size_t size);

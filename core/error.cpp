@@ -16,6 +16,7 @@ const char* toString(InputErrorKind kind) {
     case InputErrorKind::Checksum: return "checksum";
     case InputErrorKind::Version: return "version";
     case InputErrorKind::Usage: return "usage";
+    case InputErrorKind::Unsupported: return "unsupported";
   }
   return "unknown";
 }

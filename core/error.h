@@ -21,6 +21,7 @@ enum class InputErrorKind {
   Checksum,      // stored data does not match its checksum
   Version,       // unsupported format version
   Usage,         // bad command-line arguments
+  Unsupported,   // valid input that needs a feature sdfstream lacks (e.g. a required glTF extension)
 };
 
 const char* toString(InputErrorKind kind);

@@ -14,6 +14,7 @@
 #include "demo/default_scene.h"
 #include "demo/demo_report.h"
 #include "demo/moving_objects.h"
+#include "demo/pack_lights.h"
 #include "demo/view_renderer.h"
 #include "world/cornell_light.h"
 #include "world/gltf_import.h"
@@ -37,12 +38,16 @@ struct DemoView {
 constexpr int kObjectGiFrames = 12;
 
 // The scene imported, written to out/world and read back (render what is on disk, checksums
-// verified), with what the report says about it.
-World importScene(const fs::path& scenePath, const fs::path& out, DemoReport& report) {
+// verified), with what the report says about it. A scene with lights of its own (glTF
+// KHR_lights_punctual assets) is lit by them unless --sun was given.
+World importScene(const fs::path& scenePath, const fs::path& out, DemoReport& report,
+                  RenderOptions& render) {
   std::printf("[1/4] importing %s\n", scenePath.c_str());
   const auto t0 = std::chrono::steady_clock::now();
   TriangleScene scene = loadLayout(scenePath);
   const double loadSeconds = secondsSince(t0);
+  if (const std::size_t n = useOwnLights(render, scene.lights, scenePath.string()))
+    std::printf("      lit by the scene's own %zu light(s)\n", n);
   const auto t1 = std::chrono::steady_clock::now();
   World world = meshToWorld(scene, defaultVoxelSize(scene), ImportLimits{});
   const double sdfSeconds = secondsSince(t1);
@@ -170,23 +175,25 @@ int runDemo(const DemoOptions& o) {
   DemoReport report;
   report.width = o.width;
   report.height = o.height;
-  report.options = o.render;
   report.objectGiFrames = kObjectGiFrames;
-  const World world = importScene(o.scene.empty() ? findDefaultScene() : o.scene, o.out, report);
+  RenderOptions render = o.render;
+  const World world =
+      importScene(o.scene.empty() ? findDefaultScene() : o.scene, o.out, report, render);
+  report.options = render;
 
   std::unique_ptr<gpu::Context> context = o.device ? gpu::Context::create(*o.device) : nullptr;
   report.device = context ? context->deviceName() : "CPU reference";
   std::printf(
       "[2/4] rendering on %s, GI %s (%d GI frames before the first view, %u rays per "
       "probe)\n",
-      report.device.c_str(), o.render.gi ? "on" : "off", o.render.giFrames,
-      o.render.renderer.settings.probes.raysPerProbe);
+      report.device.c_str(), render.gi ? "on" : "off", render.giFrames,
+      render.renderer.settings.probes.raysPerProbe);
   const std::vector<DemoView> views = sceneViews(world);
   DemoTables tables;
   const auto t2 = std::chrono::steady_clock::now();
   // The objects view: the front camera again, after the objects moved for a few GI frames.
   std::unique_ptr<DemoObjects> objects = o.objects ? demoSceneObjects() : nullptr;
-  renderViews(world, context.get(), o.render, views, o.out, o.width, o.height, tables,
+  renderViews(world, context.get(), render, views, o.out, o.width, o.height, tables,
               objects.get(), {{"objects", views.front().camera}}, &report.objects);
   report.sceneRenderSeconds = secondsSince(t2);
 

@@ -8,9 +8,11 @@
 #include <vector>
 
 #include "core/atomic_dir.h"
+#include "core/error.h"
 #include "core/stopwatch.h"
 #include "demo/fly_path.h"
 #include "demo/fly_report.h"
+#include "demo/pack_lights.h"
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "demo/moving_objects.h"
@@ -29,10 +31,30 @@ using Clock = std::chrono::steady_clock;
 // Exposure added to the indirect-only layer of --layers (stops).
 constexpr float kIndirectLayerStops = 2.0f;
 
-StreamingOptions streamingOptions(const FlyOptions& o) {
+// The brick atlas budget must fit the slot index (32 bits) and, on a GPU, the device's memory:
+// refused at start-up with both figures, not discovered as an allocation failure mid-flight.
+void checkAtlasBudget(double atlasMiB, std::size_t slotBytes, const gpu::Context* context) {
+  const double bytes = atlasMiB * double(1 << 20);
+  if (!(atlasMiB > 0.0) || bytes / double(slotBytes) > double(UINT32_MAX))
+    throw InputError(InputErrorKind::Usage, "command line",
+                     "--atlas-mib " + std::to_string(atlasMiB) + ": expected 0 < MiB <= " +
+                         std::to_string(std::uint64_t(double(UINT32_MAX) * double(slotBytes)) >> 20));
+  if (context && bytes > double(context->deviceLocalBytes())) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "--atlas-mib %.0f: a brick atlas budget of %.0f MiB exceeds the %.0f MiB of "
+                  "device-local memory of %s",
+                  atlasMiB, atlasMiB, double(context->deviceLocalBytes()) / double(1 << 20),
+                  context->deviceName().c_str());
+    throw InputError(InputErrorKind::TooLarge, "command line", text);
+  }
+}
+
+StreamingOptions streamingOptions(const FlyOptions& o, const gpu::Context* context) {
   StreamingOptions so;
   so.cascades = o.cascades;
   const std::size_t slotBytes = 4 * (layout::kBrickDistanceWords + 2 * layout::kBrickMaterialCount);
+  checkAtlasBudget(o.atlasMiB, slotBytes, context);
   so.atlasSlots = std::uint32_t(o.atlasMiB * double(1 << 20) / slotBytes);
   so.uploadBytesPerFrame = std::size_t(o.uploadMiB * double(1 << 20));
   return so;
@@ -46,6 +68,7 @@ LoaderOptions loaderOptions(const FlyOptions& o) {
 
 RenderOptions renderOptionsFor(const FlyOptions& o, const gpu::Context* context) {
   RenderOptions render = o.render;
+  usePackLights(render, o.world);
   resolveProbeBudget(render.renderer.settings, context);
   return render;
 }
@@ -63,7 +86,7 @@ class FlyThrough {
         context_(o.device ? gpu::Context::create(*o.device) : nullptr),
         render_(renderOptionsFor(o, context_.get())),
         loader_(store_, loaderOptions(o)),
-        stack_(store_, loader_, streamingOptions(o)) {
+        stack_(store_, loader_, streamingOptions(o, context_.get())) {
     if (context_)
       renderer_ = std::make_unique<GiRenderer>(*context_, render_.renderer,
                                                std::uint32_t(stack_.cascadeCount()));

@@ -17,6 +17,7 @@ struct RenderOptions {
   int giFrames = 24;           // GI frames before a still image (camera fixed)
   GiRendererOptions renderer;  // probe settings (--probe-rays), shading (--direct)
   SceneLights lights;          // --sun, --sky
+  bool packLights = true;      // a pack's own lights replace `lights` (false: --sun was given)
   float exposureStops = 0.0f;  // --exposure
 };
 

@@ -135,6 +135,8 @@ void Context::createDevice() {
 
 // What the Context owns on any device, its own or adopted.
 void Context::createOwnedObjects() {
+  if (const char* v = std::getenv("SDFSTREAM_INJECT_DEVICE_LOST"); v && *v)
+    injectLossAfterSubmits_ = std::strtoull(v, nullptr, 10);
   cmdPushDescriptorSet_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
       vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
   SDFSTREAM_GPU_CHECK(cmdPushDescriptorSet_ != nullptr, "vkCmdPushDescriptorSetKHR not loadable");
@@ -153,7 +155,13 @@ void Context::createOwnedObjects() {
 }
 
 Context::~Context() {
-  if (device_) {
+  if (device_ && lost_) {
+    // Nothing the lost device was given will complete: free without waiting.
+    deletions_.runAll();
+    if (timeline_) vkDestroySemaphore(device_, timeline_, nullptr);
+    if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
+    if (!adopted_) vkDestroyDevice(device_, nullptr);
+  } else if (device_) {
     // Not waitIdle(): a destructor must not throw, and a lost device must still be torn down.
     // An adopted device is the engine's: wait for our own timeline only, not for its work.
     if (adopted_ && timeline_) {
@@ -194,7 +202,17 @@ std::uint64_t Context::submit(VkCommandBuffer commandBuffer) {
   info.pCommandBuffers = &commandBuffer;
   info.signalSemaphoreCount = 1;
   info.pSignalSemaphores = &timeline_;
-  SDFSTREAM_VK(vkQueueSubmit(queue_, 1, &info, VK_NULL_HANDLE));
+  if (lost_) deviceLostError("vkQueueSubmit");
+  if (injectLossAfterSubmits_ && submitCount_ >= injectLossAfterSubmits_) {
+    lost_ = true;
+    deviceLostError("vkQueueSubmit (injected by SDFSTREAM_INJECT_DEVICE_LOST)");
+  }
+  const VkResult submitted = vkQueueSubmit(queue_, 1, &info, VK_NULL_HANDLE);
+  if (submitted == VK_ERROR_DEVICE_LOST) {
+    lost_ = true;
+    deviceLostError("vkQueueSubmit");
+  }
+  SDFSTREAM_VK(submitted);
   ++submitCount_;
   lastSubmission_ = index;
   collectGarbage();
@@ -206,8 +224,17 @@ SubmitSignal Context::reserveSubmission() {
   return {timeline_, lastSubmission_};
 }
 
+VkDeviceSize Context::deviceLocalBytes() const {
+  VkDeviceSize largest = 0;
+  for (std::uint32_t i = 0; i < memoryProperties_.memoryHeapCount; ++i)
+    if (memoryProperties_.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      largest = std::max(largest, memoryProperties_.memoryHeaps[i].size);
+  return largest;
+}
+
 std::uint64_t Context::completedSubmission() const {
   std::uint64_t value = 0;
+  if (lost_) return value;  // a lost device completes nothing more
   SDFSTREAM_VK(vkGetSemaphoreCounterValue(device_, timeline_, &value));
   return value;
 }
@@ -219,8 +246,20 @@ void Context::wait(std::uint64_t index) {
   info.semaphoreCount = 1;
   info.pSemaphores = &timeline_;
   info.pValues = &index;
-  SDFSTREAM_VK(vkWaitSemaphores(device_, &info, UINT64_MAX));
+  if (lost_) deviceLostError("vkWaitSemaphores");
+  const VkResult waited = vkWaitSemaphores(device_, &info, UINT64_MAX);
+  if (waited == VK_ERROR_DEVICE_LOST) {
+    lost_ = true;
+    deviceLostError("vkWaitSemaphores");
+  }
+  SDFSTREAM_VK(waited);
   collectGarbage();
+}
+
+void Context::deviceLostError(const char* call) {
+  throw DeviceLost("the GPU (" + deviceName_ + ") was lost: " + call +
+                   " returned VK_ERROR_DEVICE_LOST (driver reset, hang or removal); "
+                   "nothing more can run on it");
 }
 
 void Context::waitIdle() {

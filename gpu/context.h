@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 
 #include <vulkan/vulkan.h>
@@ -66,6 +67,13 @@ struct SubmitSignal {
   std::uint64_t value = 0;
 };
 
+// Thrown by submit and wait once the device is lost (VK_ERROR_DEVICE_LOST): the GPU reset, hung
+// or was removed. Not recoverable for this Context; the message is one line.
+class DeviceLost : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class Context {
  public:
   // Throws std::runtime_error with a one-line reason: no matching/suitable device, validation
@@ -94,6 +102,8 @@ class Context {
   const std::string& deviceName() const { return deviceName_; }
   // True for a CPU implementation (lavapipe/llvmpipe, SwiftShader): callers may shrink workloads.
   bool isSoftware() const { return properties_.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+  // Bytes of the largest device-local memory heap: what one budget on the device can hope for.
+  VkDeviceSize deviceLocalBytes() const;
   // Nanoseconds per timestamp tick (VkPhysicalDeviceLimits::timestampPeriod).
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   // False when the compute queue has no timestamp support; CommandBatch timings are then 0 ms.
@@ -129,6 +139,12 @@ class Context {
   void wait(std::uint64_t index);
   // Blocks until everything submitted has completed and frees every deferred object.
   void waitIdle();
+
+  // True once a submit or a wait returned VK_ERROR_DEVICE_LOST. From then on every submit and
+  // wait throws DeviceLost at once (a lost device signals nothing: waiting would never end) and
+  // the destructor tears down without waiting. Test hook: SDFSTREAM_INJECT_DEVICE_LOST=N makes
+  // the (N+1)-th submit of each Context fail as if the device were lost.
+  bool deviceLost() const { return lost_; }
 
   // --- Counters (for tests and engines checking that a frame never blocks). ---
   // vkQueueSubmit calls made by this Context (not the caller's own submissions).
@@ -186,6 +202,9 @@ class Context {
   VkSemaphore timeline_ = VK_NULL_HANDLE;
   std::uint64_t lastSubmission_ = 0;
   std::uint64_t submitCount_ = 0;
+  bool lost_ = false;
+  std::uint64_t injectLossAfterSubmits_ = 0;  // 0: never (SDFSTREAM_INJECT_DEVICE_LOST)
+  [[noreturn]] void deviceLostError(const char* call);
   std::uint64_t hostWaitCount_ = 0;
   bool adopted_ = false;
   std::uint64_t openBatches_ = 0;  // CommandBatches recording, not yet submitted or released

@@ -64,6 +64,21 @@ std::uint64_t objectCacheKey(const TriangleScene& mesh, const ObjectSdfSettings&
     const std::int32_t i[3] = {m.baseColorTexture, m.baseColorTexCoord, m.emissiveTexture};
     parts.push_back(checksum64(f, sizeof f));
     parts.push_back(checksum64(i, sizeof i));
+    // Later fields only when they differ from their defaults, so existing caches stay valid.
+    if (m.emissiveTexCoord != 0 || !m.baseColorUv.isIdentity() || !m.emissiveUv.isIdentity()) {
+      const float t[13] = {m.baseColorUv.column0.x, m.baseColorUv.column0.y,
+                           m.baseColorUv.column1.x, m.baseColorUv.column1.y,
+                           m.baseColorUv.offset.x,  m.baseColorUv.offset.y,
+                           m.emissiveUv.column0.x,  m.emissiveUv.column0.y,
+                           m.emissiveUv.column1.x,  m.emissiveUv.column1.y,
+                           m.emissiveUv.offset.x,   m.emissiveUv.offset.y,
+                           float(m.emissiveTexCoord)};
+      parts.push_back(checksum64(t, sizeof t));
+    }
+  }
+  if (!mesh.uvs1.empty()) {
+    parts.push_back(mesh.uvs1.size());
+    parts.push_back(hashVector(mesh.uvs1));
   }
   parts.push_back(mesh.textures.size());
   for (const Texture& t : mesh.textures) {

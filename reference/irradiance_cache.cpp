@@ -58,7 +58,14 @@ void hashScene(KeyBuilder& k, const TriangleScene& s) {
     k.u(std::uint64_t(std::int64_t(m.baseColorTexCoord)));
     k.v3(m.emissive);
     k.u(std::uint64_t(std::int64_t(m.emissiveTexture)));
+    // Later fields only when they differ from their defaults, so existing caches stay valid.
+    if (m.emissiveTexCoord != 0 || !m.baseColorUv.isIdentity() || !m.emissiveUv.isIdentity()) {
+      k.u(std::uint64_t(std::int64_t(m.emissiveTexCoord)));
+      for (const UvTransform* t : {&m.baseColorUv, &m.emissiveUv})
+        for (const glm::vec2 v : {t->column0, t->column1, t->offset}) k.v3(glm::vec3(v, 0.0f));
+    }
   }
+  if (!s.uvs1.empty()) k.array(s.uvs1);
   k.u(s.textures.size());
   for (const Texture& t : s.textures) {
     k.u(std::uint64_t(std::int64_t(t.width)));

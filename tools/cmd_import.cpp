@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "core/atomic_dir.h"
 #include "core/error.h"
 #include "tools/args.h"
 #include "tools/commands.h"
@@ -89,6 +90,9 @@ int runImport(int argc, char** argv) {
   if (args.positional().size() != 1 || !args.value("-o"))
     throw InputError(InputErrorKind::Usage, "command line",
                      "expected: sdfstream import INPUT -o WORLD (see --help)");
+  // First of all: an import killed earlier may have left its staging, or (killed inside the
+  // commit) the previous world only as its backup. Put that right even if this run then fails.
+  recoverInterruptedOutput(*args.value("-o"));
   PackImportOptions options;
   options.voxelSize = args.number("--voxel", 0.0);
   if (options.voxelSize < 0.0)

@@ -2,6 +2,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "demo/pack_lights.h"
 #include "demo/view_renderer.h"
 #include "gpu/context.h"
 #include "tools/args.h"
@@ -47,6 +48,7 @@ int runRender(int argc, char** argv) {
                      "expected: sdfstream render WORLD -o IMAGE.png (see --help)");
   RenderOptions options = renderOptionsFromArgs(args, args.has("--cpu"), 24);
   World world = readWorld(args.positional()[0]);
+  usePackLights(options, args.positional()[0]);
   Camera camera = defaultCamera(world);
   if (auto text = args.value("--camera")) {
     auto parsed = parseCamera(*text);

@@ -59,7 +59,9 @@ const char* const kRenderHelp =
     "                                    wait for later frames, nearest and in view first\n"
     "  --sun dx,dy,dz,E                  sun: direction its light travels (world, e.g. 0,-1,0 =\n"
     "                                    straight down) and irradiance E (0 = no sun; default\n"
-    "                                    0.45,-0.7,-0.55,3)\n"
+    "                                    0.45,-0.7,-0.55,3); a world imported with lights of\n"
+    "                                    its own (glTF KHR_lights_punctual) is lit by those\n"
+    "                                    unless --sun is given\n"
     "  --sky r,g,b[,r,g,b]               sky radiance at the zenith [and at the horizon; one\n"
     "                                    colour = constant sky] (default 0.06,0.11,0.25,\n"
     "                                    0.2,0.22,0.26)\n"
@@ -113,6 +115,7 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
     horizon = v.size() == 6 ? glm::vec3(v[3], v[4], v[5]) : zenith;
   }
   o.lights = defaultSceneLights(sunDir, sunE, zenith, horizon);
+  o.packLights = !args.has("--sun");
   return o;
 }
 

@@ -24,4 +24,5 @@ extern const char* const kStillGiFramesHelp;
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
                                     std::uint32_t defaultProbeBudget = 1u << 21);
 
+
 }  // namespace sdfstream::cli

@@ -46,6 +46,8 @@ class MeshSource final : public SdfSource {
     return names;
   }
 
+  std::vector<SceneLight> lights() const override { return scene_.lights; }
+
   void prepareLod(const PartitionSpec& spec, int lod) override {
     Lod& l = lods_.at(std::size_t(lod));
     l.voxel = spec.lodVoxelSize(lod);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "world/partition.h"
+#include "world/scene_lights.h"
 #include "world/world.h"
 
 namespace sdfstream {
@@ -34,6 +35,7 @@ struct PackManifest {
   glm::dvec3 boundsMin{0.0}, boundsMax{0.0};  // world-space bounds of the surface
   std::string source;                         // input file name(s)
   std::vector<std::string> materials;         // material names, informational
+  std::vector<SceneLight> lights;             // the sources' own lights, world space (optional)
   std::vector<TileEntry> tiles;               // sorted by coord (z, y, x)
 };
 
@@ -56,7 +58,8 @@ class PackWriter {
   void addTile(const Tile& tile);
   // Call once, after every addTile has returned.
   void commit(glm::dvec3 boundsMin, glm::dvec3 boundsMax, const std::string& source,
-              const std::vector<std::string>& materials);
+              const std::vector<std::string>& materials,
+              const std::vector<SceneLight>& lights = {});
 
  private:
   struct Impl;

@@ -48,6 +48,8 @@ inline constexpr std::uint64_t kBrickPayloadBytes =
 // largest possible ratio times the compressed size, see decodeTile).
 inline constexpr int kMaxTileBricks = 1024;
 inline constexpr std::uint64_t kMaxSectionBytes = 8ull << 30;
+// The manifest's optional "lights" list: at most as many as a glTF import may place.
+inline constexpr std::size_t kMaxManifestLights = 1024;
 
 constexpr std::size_t tileHeaderBytes(int lodCount) { return 40 + kDescriptorBytes * lodCount; }
 constexpr std::uint64_t sectionBytes(std::uint64_t bricks, std::uint64_t n) {

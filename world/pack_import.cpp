@@ -114,11 +114,13 @@ void importPack(const std::vector<std::unique_ptr<SdfSource>>& sources,
 
   glm::dvec3 lo(INFINITY), hi(-INFINITY);
   std::vector<std::string> materials;
+  std::vector<SceneLight> lights;
   std::vector<const SdfSource*> raw;
   for (const auto& s : sources) {
     lo = glm::min(lo, s->boundsMin());
     hi = glm::max(hi, s->boundsMax());
     for (std::string& m : s->materialNames()) materials.push_back(std::move(m));
+    for (const SceneLight& l : s->lights()) lights.push_back(l);
     raw.push_back(s.get());
   }
   std::vector<glm::ivec3> tiles;
@@ -145,7 +147,7 @@ void importPack(const std::vector<std::unique_ptr<SdfSource>>& sources,
   });
   for (const auto& s : sources)
     for (int lod = 0; lod < spec.lodCount; ++lod) s->releaseLod(lod);
-  writer.commit(lo, hi, sourceName, materials);
+  writer.commit(lo, hi, sourceName, materials, lights);
 }
 
 }  // namespace sdfstream

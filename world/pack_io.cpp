@@ -192,7 +192,8 @@ void PackWriter::addTile(const Tile& tile) {
 }
 
 void PackWriter::commit(glm::dvec3 boundsMin, glm::dvec3 boundsMax, const std::string& source,
-                        const std::vector<std::string>& materials) {
+                        const std::vector<std::string>& materials,
+                        const std::vector<SceneLight>& lights) {
   std::lock_guard lock(impl_->mutex);
   if (impl_->committed) throw std::logic_error("PackWriter::commit called twice");
   if (impl_->failed)
@@ -203,6 +204,7 @@ void PackWriter::commit(glm::dvec3 boundsMin, glm::dvec3 boundsMax, const std::s
   m.boundsMax = boundsMax;
   m.source = source;
   m.materials = materials;
+  m.lights = lights;
   m.tiles = impl_->tiles;
   sortTiles(m.tiles);
   const std::string text = manifestText(m);
@@ -360,6 +362,7 @@ void mergePacks(const std::vector<fs::path>& shards, const fs::path& out) {
   merged.spec = manifests[0].spec;
   merged.source = manifests[0].source;
   merged.materials = manifests[0].materials;
+  merged.lights = manifests[0].lights;  // every shard imports the same sources
   // Shards of one import carry the same (whole-world) bounds; the union keeps that value.
   merged.boundsMin = manifests[0].boundsMin;
   merged.boundsMax = manifests[0].boundsMax;

@@ -7,6 +7,10 @@
 //                   informational), "origin": [x, y, z]},
 //     "bounds": {"min": [x, y, z], "max": [x, y, z]},
 //     "source": "...", "materials": ["..."], "objectLibrary": [],
+//     "lights": [{"type": "sun"|"point"|"spot", "position": [x, y, z], "direction": [x, y, z],
+//                 "color": [r, g, b], "intensity": i, "range": r, "innerConeDegrees": a,
+//                 "outerConeDegrees": b, "shadowSharpness": k, "castsShadows": true}, ...]
+//                 (only when the sources have lights of their own: scene_lights.h's fields)
 //     "tiles": [{"coord": [x, y, z], "file": "tiles/x_y_z.tile", "bytes": n,
 //                "xxh3": "16 hex digits", "bricks": [per LOD]}, ...]   sorted (z, y, x),
 //                                                                     one compact line each
@@ -28,6 +32,28 @@ using json = nlohmann::json;
 
 ordered vec3(glm::dvec3 v) { return ordered::array({v.x, v.y, v.z}); }
 ordered vec3(glm::ivec3 v) { return ordered::array({v.x, v.y, v.z}); }
+
+const char* lightTypeName(SceneLight::Type t) {
+  switch (t) {
+    case SceneLight::Type::Sun: return "sun";
+    case SceneLight::Type::Point: return "point";
+    case SceneLight::Type::Spot: return "spot";
+  }
+  return "sun";
+}
+
+ordered lightJson(const SceneLight& l) {
+  return {{"type", lightTypeName(l.type)},
+          {"position", vec3(l.position)},
+          {"direction", vec3(glm::dvec3(l.direction))},
+          {"color", vec3(glm::dvec3(l.color))},
+          {"intensity", l.intensity},
+          {"range", l.range},
+          {"innerConeDegrees", l.innerConeDegrees},
+          {"outerConeDegrees", l.outerConeDegrees},
+          {"shadowSharpness", l.shadowSharpness},
+          {"castsShadows", l.castsShadows}};
+}
 
 // Reads typed values out of untrusted JSON; every error names the key path ("tiles[3].bytes").
 class Reader {
@@ -103,6 +129,44 @@ class Reader {
   std::string file_;
 };
 
+SceneLight readLight(const Reader& r, const json& o, const std::string& path) {
+  SceneLight l;
+  const std::string type = r.string(o, path, "type");
+  if (type == "sun") l.type = SceneLight::Type::Sun;
+  else if (type == "point") l.type = SceneLight::Type::Point;
+  else if (type == "spot") l.type = SceneLight::Type::Spot;
+  else r.fail(path + ".type", "expected sun, point or spot");
+  l.position = r.dvec3(o, path, "position");
+  l.direction = glm::vec3(r.dvec3(o, path, "direction"));
+  if (glm::length(l.direction) < 1e-6f) r.fail(path + ".direction", "expected a non-zero vector");
+  l.direction = glm::normalize(l.direction);
+  l.color = glm::vec3(r.dvec3(o, path, "color"));
+  l.intensity = float(r.number(o, path, "intensity"));
+  l.range = float(r.number(o, path, "range"));
+  l.innerConeDegrees = float(r.number(o, path, "innerConeDegrees"));
+  l.outerConeDegrees = float(r.number(o, path, "outerConeDegrees"));
+  l.shadowSharpness = float(r.number(o, path, "shadowSharpness"));
+  const json& shadows = r.at(o, path, "castsShadows");
+  if (!shadows.is_boolean()) r.fail(path + ".castsShadows", "expected true or false");
+  l.castsShadows = shadows.get<bool>();
+  if (l.color.r < 0 || l.color.g < 0 || l.color.b < 0 || l.intensity < 0 || l.range < 0 ||
+      l.shadowSharpness < 0)
+    r.fail(path, "colour, intensity, range and shadowSharpness must be >= 0");
+  if (!(l.innerConeDegrees >= 0 && l.innerConeDegrees <= l.outerConeDegrees &&
+        l.outerConeDegrees <= 90))
+    r.fail(path, "expected 0 <= innerConeDegrees <= outerConeDegrees <= 90");
+  return l;
+}
+
+std::vector<SceneLight> readLights(const Reader& r, const json& list) {
+  if (list.size() > kMaxManifestLights)
+    r.fail("lights", "more than " + std::to_string(kMaxManifestLights) + " lights");
+  std::vector<SceneLight> lights;
+  for (std::size_t i = 0; i < list.size(); ++i)
+    lights.push_back(readLight(r, list[i], "lights[" + std::to_string(i) + "]"));
+  return lights;
+}
+
 }  // namespace
 
 std::string manifestText(const PackManifest& m) {
@@ -118,6 +182,10 @@ std::string manifestText(const PackManifest& m) {
   j["source"] = m.source;
   j["materials"] = m.materials;
   j["objectLibrary"] = ordered::array();
+  if (!m.lights.empty()) {
+    j["lights"] = ordered::array();
+    for (const SceneLight& l : m.lights) j["lights"].push_back(lightJson(l));
+  }
   // One line per tile: a kilometre world has thousands, and line-wise diffs stay readable.
   std::string text = j.dump(2);
   text.resize(text.size() - 2);  // drop "\n}"
@@ -164,6 +232,7 @@ PackManifest parseManifest(const std::string& text, const std::string& file) {
     m.materials.push_back(materials[i].get<std::string>());
   }
   r.array(j, "", "objectLibrary");
+  if (j.contains("lights")) m.lights = readLights(r, r.array(j, "", "lights"));
 
   const json& tiles = r.array(j, "", "tiles");
   m.tiles.reserve(tiles.size());

@@ -168,6 +168,12 @@ void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm:
   for (const glm::vec3& p : part.positions) out.positions.emplace_back(m * glm::dvec4(p, 1.0));
   out.uvs.insert(out.uvs.end(), part.uvs.begin(), part.uvs.end());
   out.uvs.resize(out.positions.size(), glm::vec2(0.0f));
+  if (!part.uvs1.empty() || !out.uvs1.empty()) {  // the second set only where some part has one
+    out.uvs1.resize(vertexBase, glm::vec2(0.0f));
+    out.uvs1.insert(out.uvs1.end(), part.uvs1.begin(), part.uvs1.end());
+    out.uvs1.resize(out.positions.size(), glm::vec2(0.0f));
+  }
+  for (const SceneLight& light : part.lights) out.lights.push_back(transformLight(light, m));
   const bool flip = glm::determinant(m) < 0.0;
   for (const glm::uvec3& t : part.triangles)
     out.triangles.push_back(glm::uvec3(vertexBase) + (flip ? glm::uvec3(t.x, t.z, t.y) : t));

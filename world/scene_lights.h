@@ -26,6 +26,17 @@ struct SceneLight {
   bool castsShadows = true;
 };
 
+// `light` moved by an affine transform: position = m · p, direction = m · d renormalised (a
+// degenerate transform keeps the light's own direction rather than NaN). Cone angles, range and
+// intensity are kept: a scaled placement does not rescale the light.
+inline SceneLight transformLight(SceneLight light, const glm::dmat4& m) {
+  light.position = glm::dvec3(m * glm::dvec4(light.position, 1.0));
+  const glm::dvec3 d(m * glm::dvec4(glm::dvec3(light.direction), 0.0));
+  const double len = glm::length(d);
+  if (len > 0.0 && len < 1e300) light.direction = glm::vec3(d / len);
+  return light;
+}
+
 struct SceneSky {
   glm::vec3 zenith{0.0f};   // radiance straight up (linear RGB)
   glm::vec3 horizon{0.0f};  // radiance at/below the horizon

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "world/partition.h"
+#include "world/scene_lights.h"
 #include "world/world.h"
 
 namespace sdfstream {
@@ -66,6 +67,8 @@ class SdfSource {
   virtual double estimateBytes(const PartitionSpec& /*spec*/) const { return 0.0; }
   // Material names for the pack manifest (informational).
   virtual std::vector<std::string> materialNames() const { return {}; }
+  // The source's own lights in world space (a glTF file's KHR_lights_punctual), for the manifest.
+  virtual std::vector<SceneLight> lights() const { return {}; }
 };
 
 }  // namespace sdfstream

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace sdfstream {
 namespace {
@@ -53,11 +54,18 @@ glm::vec4 sampleTexture(const Texture& tex, glm::vec2 uv) {
   return glm::mix(top, bottom, fy);
 }
 
-glm::vec2 interpolateUv(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary) {
+// The texture tap of one material slot, or nullopt when the slot has no texture or the scene
+// lacks its UV set (the factor alone then applies, as before multiple sets were imported).
+std::optional<glm::vec4> sampleSlot(const TriangleScene& scene, std::uint32_t triangle,
+                                    glm::vec2 bary, int texture, int texCoord,
+                                    const UvTransform& transform) {
+  if (texture < 0 || std::size_t(texture) >= scene.textures.size()) return std::nullopt;
+  if (texCoord != 0 && texCoord != 1) return std::nullopt;
+  const std::vector<glm::vec2>& uvs = texCoord == 1 ? scene.uvs1 : scene.uvs;
+  if (uvs.size() != scene.positions.size()) return std::nullopt;
   const glm::uvec3 t = scene.triangles[triangle];
-  if (scene.uvs.size() != scene.positions.size()) return glm::vec2(0.0f);
-  return scene.uvs[t.x] * (1.0f - bary.x - bary.y) + scene.uvs[t.y] * bary.x +
-         scene.uvs[t.z] * bary.y;
+  const glm::vec2 uv = uvs[t.x] * (1.0f - bary.x - bary.y) + uvs[t.y] * bary.x + uvs[t.z] * bary.y;
+  return sampleTexture(scene.textures[std::size_t(texture)], transform.apply(uv));
 }
 
 const Material& materialOf(const TriangleScene& scene, std::uint32_t triangle) {
@@ -65,11 +73,6 @@ const Material& materialOf(const TriangleScene& scene, std::uint32_t triangle) {
   const std::uint32_t m = scene.triangleMaterial[triangle];
   assert(m < scene.materials.size());
   return scene.materials[m];
-}
-
-const Texture* textureOf(const TriangleScene& scene, int index) {
-  if (index < 0 || std::size_t(index) >= scene.textures.size()) return nullptr;
-  return &scene.textures[std::size_t(index)];
 }
 
 }  // namespace
@@ -100,8 +103,9 @@ double TriangleScene::surfaceArea() const {
 glm::vec4 sampleAlbedo(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary) {
   const Material& m = materialOf(scene, triangle);
   glm::vec4 color = m.baseColorFactor;
-  if (const Texture* tex = textureOf(scene, m.baseColorTexture); tex && m.baseColorTexCoord == 0)
-    color *= sampleTexture(*tex, interpolateUv(scene, triangle, bary));
+  if (auto tap = sampleSlot(scene, triangle, bary, m.baseColorTexture, m.baseColorTexCoord,
+                            m.baseColorUv))
+    color *= *tap;
   return color;
 }
 
@@ -109,8 +113,9 @@ glm::vec3 sampleEmission(const TriangleScene& scene, std::uint32_t triangle, glm
   const Material& m = materialOf(scene, triangle);
   glm::vec3 emission = m.emissive;
   if (emission == glm::vec3(0.0f)) return emission;
-  if (const Texture* tex = textureOf(scene, m.emissiveTexture))
-    emission *= glm::vec3(sampleTexture(*tex, interpolateUv(scene, triangle, bary)));
+  if (auto tap = sampleSlot(scene, triangle, bary, m.emissiveTexture, m.emissiveTexCoord,
+                            m.emissiveUv))
+    emission *= glm::vec3(*tap);
   return emission;
 }
 

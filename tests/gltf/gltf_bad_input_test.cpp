@@ -106,19 +106,6 @@ TEST(GltfBadInput, AccessorPastBufferViewIsOutOfRange) {
   expectInputError([&] { loadGltf(test::save(dir, "tri", j)); }, Kind::OutOfRange);
 }
 
-TEST(GltfBadInput, SparseAccessorIsRejectedClearly) {
-  const fs::path dir = test::scratchDir("gltf-sparse");
-  nlohmann::json j = test::gltfWithPositions(dir, "tri", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-  j["accessors"][0]["sparse"] = {{"count", 1},
-                                 {"indices", {{"bufferView", 0}, {"componentType", 5121}}},
-                                 {"values", {{"bufferView", 0}}}};
-  j["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}};
-  j["nodes"] = {{{"mesh", 0}}};
-  const std::string msg =
-      expectInputError([&] { loadGltf(test::save(dir, "tri", j)); }, Kind::Malformed);
-  EXPECT_NE(msg.find("sparse"), std::string::npos) << msg;
-}
-
 TEST(GltfBadInput, MissingImageIsMissingData) {
   const fs::path dir = test::scratchDir("gltf-noimage");
   const fs::path src = model("BoxTextured-glTF");

@@ -319,6 +319,55 @@ TEST(Pack, BadManifestNamesTheKey) {
   EXPECT_EQ(errorOf([&] { readManifest(root / "w"); }).kind(), InputErrorKind::Io);
 }
 
+// The sources' own lights (a glTF's KHR_lights_punctual) round-trip through the manifest; a pack
+// without lights writes no "lights" key, so its bytes are those of packs written before it.
+TEST(Pack, ManifestLightsRoundTripAndBadOnesNameTheKey) {
+  PackManifest m;
+  m.spec = testSpec();
+  m.source = "lit.gltf";
+  EXPECT_EQ(pack_format::manifestText(m).find("\"lights\""), std::string::npos);
+  SceneLight spot;
+  spot.type = SceneLight::Type::Spot;
+  spot.position = glm::dvec3(1.5, 2.25, -3.0);
+  spot.direction = glm::vec3(0.0f, -1.0f, 0.0f);
+  spot.color = glm::vec3(1.0f, 0.5f, 0.25f);
+  spot.intensity = 42.0f;
+  spot.range = 7.0f;
+  spot.innerConeDegrees = 11.0f;
+  spot.outerConeDegrees = 33.0f;
+  spot.castsShadows = false;
+  SceneLight sun;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  m.lights = {spot, sun};
+  const std::string text = pack_format::manifestText(m);
+  const PackManifest back = pack_format::parseManifest(text, "manifest.json");
+  ASSERT_EQ(back.lights.size(), 2u);
+  const SceneLight& s = back.lights[0];
+  EXPECT_EQ(s.type, SceneLight::Type::Spot);
+  EXPECT_EQ(s.position, spot.position);
+  EXPECT_EQ(s.direction, spot.direction);
+  EXPECT_EQ(s.color, spot.color);
+  EXPECT_EQ(s.intensity, spot.intensity);
+  EXPECT_EQ(s.range, spot.range);
+  EXPECT_EQ(s.innerConeDegrees, spot.innerConeDegrees);
+  EXPECT_EQ(s.outerConeDegrees, spot.outerConeDegrees);
+  EXPECT_EQ(s.castsShadows, false);
+  EXPECT_EQ(back.lights[1].type, SceneLight::Type::Sun);
+  EXPECT_NEAR(glm::length(back.lights[1].direction - sun.direction), 0.0f, 1e-6f);
+  auto expectBad = [&](const std::string& from, const std::string& to, const std::string& key) {
+    std::string t = text;
+    const std::size_t at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    t.replace(at, from.size(), to);
+    const InputError e = errorOf([&] { pack_format::parseManifest(t, "manifest.json"); });
+    EXPECT_EQ(e.kind(), InputErrorKind::Malformed) << e.what();
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  };
+  expectBad("\"spot\"", "\"area\"", "lights[0].type");
+  expectBad("\"intensity\": 42", "\"intensity\": -42", "lights[0]");
+  expectBad("\"outerConeDegrees\": 33", "\"outerConeDegrees\": 3", "lights[0]");
+}
+
 TEST(Pack, DiskFullKeepsThePreviousPackAndLeavesNothing) {
   const fs::path root = test::scratchDir("pack-full");
   const PartitionSpec spec = testSpec();
