@@ -198,6 +198,11 @@ Json parseAndCheckJson(std::string_view text, const std::string& file) {
     if (auto colon = reason.find(": "); colon != std::string::npos) reason.erase(0, colon + 2);
     throw InputError(Kind::Malformed, file,
                      "invalid JSON at " + detail::jsonLineColumn(text, e.byte) + ": " + reason);
+  } catch (const Json::exception& e) {
+    // Not only parse_error: a number too large for a double ("1e999") is out_of_range (406).
+    std::string reason = e.what();
+    if (auto bracket = reason.find("] "); bracket != std::string::npos) reason.erase(0, bracket + 2);
+    throw InputError(Kind::Malformed, file, "invalid JSON: " + reason.substr(0, 200));
   }
   if (!json.is_object()) throw InputError(Kind::Malformed, file, "top level is not a JSON object");
   if (nestedDeeperThan(json, 64)) throw InputError(Kind::Malformed, file, "JSON nested too deeply");

@@ -106,6 +106,19 @@ TEST(GltfBadInput, AccessorPastBufferViewIsOutOfRange) {
   expectInputError([&] { loadGltf(test::save(dir, "tri", j)); }, Kind::OutOfRange);
 }
 
+// Found by gltf_fuzz: nlohmann throws out_of_range, not parse_error, for a number beyond double.
+TEST(GltfBadInput, NumberTooLargeForADoubleIsMalformed) {
+  const fs::path dir = test::scratchDir("gltf-huge-number");
+  test::writeText(dir / "huge.gltf", R"({"asset": {"version": "2.0"}, "scene": 1e999})");
+  const std::string msg =
+      expectInputError([&] { loadGltf(dir / "huge.gltf"); }, Kind::Malformed);
+  EXPECT_NE(msg.find("huge.gltf"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("invalid JSON"), std::string::npos) << msg;
+  // The minimized GLB the fuzzer wrote (tests/gltf/data/fuzz/): the same through the JSON chunk.
+  const fs::path glb = test::sourceDir() / "tests/gltf/data/fuzz/number-overflow.glb";
+  expectInputError([&] { loadGltf(glb); }, Kind::Malformed);
+}
+
 TEST(GltfBadInput, MissingImageIsMissingData) {
   const fs::path dir = test::scratchDir("gltf-noimage");
   const fs::path src = model("BoxTextured-glTF");
