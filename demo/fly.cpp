@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -30,6 +34,28 @@ using Clock = std::chrono::steady_clock;
 
 // Exposure added to the indirect-only layer of --layers (stops).
 constexpr float kIndirectLayerStops = 2.0f;
+
+// Resident set size of this process (VmRSS of /proc/self/status), 0 where unavailable.
+std::uint64_t residentBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::strtoull(line.c_str() + 6, nullptr, 10) * 1024;
+  return 0;
+}
+
+// Distance along a path of `length` at travelled distance `s`, back and forth.
+double pingPong(double s, double length) {
+  if (length <= 0.0) return 0.0;
+  const double period = std::fmod(s, 2.0 * length);
+  return period <= length ? period : 2.0 * length - period;
+}
+
+// One sample of a long run's memory (FlyOptions::loop runs report start, peak and end).
+struct MemorySample {
+  int frame = 0;
+  std::uint64_t rss = 0, gpuBuffers = 0;
+};
 
 // The brick atlas budget must fit the slot index (32 bits) and, on a GPU, the device's memory:
 // refused at start-up with both figures, not discovered as an allocation failure mid-flight.
@@ -126,10 +152,15 @@ class FlyThrough {
         std::this_thread::sleep_until(start +
                                       std::chrono::microseconds(std::int64_t(seconds * 1e6)));
       frame(f, seconds);
-      const FrameMetrics& m = metrics_.back();
+      if (f % std::max(1, o_.frames / 100) == 0 || f == o_.frames - 1)
+        memory_.push_back({f, residentBytes(), context_ ? context_->liveBufferBytes() : 0});
       if (f % std::max(1, o_.frames / 10) == 0 || f == o_.frames - 1)
-        std::fprintf(stderr, "  frame %d/%d: %u missing pages, %zu tiles cached\n", f + 1,
-                     o_.frames, m.stream.missingPages, m.loader.cachedTiles);
+        std::fprintf(stderr,
+                     "  frame %d/%d: %u missing pages, %zu tiles cached, RSS %.1f MiB, GPU "
+                     "buffers %.1f MiB\n",
+                     f + 1, o_.frames, lastStream_.missingPages, lastCachedTiles_,
+                     double(memory_.back().rss) / (1 << 20),
+                     double(memory_.back().gpuBuffers) / (1 << 20));
     }
   }
 
@@ -143,7 +174,7 @@ class FlyThrough {
                                                renderer_ ? renderer_->probeDeviceBytes() : 0) +
                              objectSummaryMarkdown(giMetrics_, gi);
     std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() + "\n\n" +
-                     summaryMarkdown(summary) + giMd;
+                     summaryMarkdown(summary) + giMd + memoryMarkdown();
     const auto failed = loader_.failedTiles();
     if (!failed.empty()) {
       md += "\nTiles that failed to load (reported, never treated as empty):\n";
@@ -196,7 +227,9 @@ class FlyThrough {
 
   // Stream, move the objects, update the GI, and render when this frame is written.
   void frame(int f, double seconds) {
-    const Camera cam = cameraAt(o_.speed * seconds);
+    const double travelled = o_.speed * seconds;
+    const Camera cam = cameraAt(o_.loop ? pingPong(travelled, length_) : travelled);
+    if (o_.sunDegreesPerFrame != 0.0) turnSuns();
     FrameMetrics m;
     m.frame = f;
     m.seconds = seconds;
@@ -212,9 +245,46 @@ class FlyThrough {
     m.gpuBytes =
         stack_.atlasBytes() + std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
     if (f % o_.imageEvery == 0 || f == o_.frames - 1) render(f, cam, m, g);
-    giMetrics_.push_back(g);
     m.loader = loader_.takeStats();
-    metrics_.push_back(std::move(m));
+    lastStream_ = m.stream;
+    lastCachedTiles_ = m.loader.cachedTiles;
+    if (f % std::max(1, o_.metricsEvery) == 0 || f == o_.frames - 1) {
+      giMetrics_.push_back(std::move(g));
+      metrics_.push_back(std::move(m));
+    }
+  }
+
+  void turnSuns() {
+    const float a = float(o_.sunDegreesPerFrame * 3.14159265358979323846 / 180.0);
+    const float c = std::cos(a), s = std::sin(a);
+    for (SceneLight& l : render_.lights.lights)
+      if (l.type == SceneLight::Type::Sun)
+        l.direction = glm::vec3(c * l.direction.x + s * l.direction.z, l.direction.y,
+                                -s * l.direction.x + c * l.direction.z);
+    ++render_.lights.version;
+  }
+
+  // Start (after the first tenth of the run), peak and end of the process's RSS and of the live
+  // GPU buffers, and the rendered pixels that were not finite.
+  std::string memoryMarkdown() const {
+    if (memory_.empty()) return "";
+    const std::size_t settled = memory_.size() / 10;
+    MemorySample start = memory_[std::min(settled, memory_.size() - 1)], peak{}, end = memory_.back();
+    for (const MemorySample& m : memory_) {
+      peak.rss = std::max(peak.rss, m.rss);
+      peak.gpuBuffers = std::max(peak.gpuBuffers, m.gpuBuffers);
+    }
+    auto mib = [](std::uint64_t b) { return double(b) / double(1 << 20); };
+    char text[640];
+    std::snprintf(text, sizeof text,
+                  "\n## Memory over the run\n\n| | start (frame %d) | peak | end (frame %d) |\n"
+                  "|---|---|---|---|\n| RSS | %.1f MiB | %.1f MiB | %.1f MiB |\n"
+                  "| GPU buffers | %.1f MiB | %.1f MiB | %.1f MiB |\n\n"
+                  "Rendered pixels not finite: %llu of %llu.\n",
+                  start.frame + 1, end.frame + 1, mib(start.rss), mib(peak.rss), mib(end.rss),
+                  mib(start.gpuBuffers), mib(peak.gpuBuffers), mib(end.gpuBuffers),
+                  (unsigned long long)nonFinitePixels_, (unsigned long long)renderedPixels_);
+    return text;
   }
 
   void render(int f, const Camera& cam, FrameMetrics& m, GiFrameMetrics& g) {
@@ -235,6 +305,10 @@ class FlyThrough {
                            o_.width, o_.height, {}, {});
       g.shadeMilliseconds = millisecondsSince(t1);
     }
+    const std::vector<glm::vec3> pixels = frame.final();
+    for (const glm::vec3& p : pixels)
+      nonFinitePixels_ += !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    renderedPixels_ += pixels.size();
     writeFrame(f, frame);
   }
 
@@ -265,6 +339,10 @@ class FlyThrough {
   std::unique_ptr<DemoObjects> objects_;
   std::uint64_t giFrame_ = 0;
   std::vector<FrameMetrics> metrics_;
+  std::vector<MemorySample> memory_;
+  StreamFrameStats lastStream_{};
+  std::size_t lastCachedTiles_ = 0;
+  std::uint64_t nonFinitePixels_ = 0, renderedPixels_ = 0;
   std::vector<GiFrameMetrics> giMetrics_;
 };
 

@@ -30,6 +30,13 @@ struct FlyOptions {
   int loaderThreads = 2;
   std::uint32_t objects = 150;  // scripted moving objects along the path (Vulkan only)
   int warmupGiFrames = 0;       // GI frames at the start of the path before the flight
+  // Long runs (scripts/soak): fly back and forth along the path instead of stopping at its end;
+  // turn every sun about +Y by this many degrees per frame (a moving sun: the light cache
+  // relights); keep the per-frame metrics of every metricsEvery-th frame only, so memory stays
+  // flat over 100,000 frames.
+  bool loop = false;
+  double sunDegreesPerFrame = 0.0;
+  int metricsEvery = 1;
   RenderOptions render;         // rayBudget kProbeBudgetOfDevice: chosen by device
   std::optional<gpu::ContextOptions> device;  // none: the CPU reference (direct light only)
 };

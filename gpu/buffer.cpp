@@ -64,6 +64,7 @@ Buffer::Buffer(Context& ctx, std::size_t bytes, BufferKind kind)
     SDFSTREAM_VK(vkBindBufferMemory(device, buffer_, memory_, 0));
     if (kind != BufferKind::DeviceLocal)
       SDFSTREAM_VK(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+    ctx.liveBufferBytes_ += size_;
   } catch (...) {
     // Nothing was submitted with this buffer yet, so immediate destruction is safe.
     if (memory_) vkFreeMemory(device, memory_, nullptr);
@@ -97,6 +98,7 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
 
 void Buffer::release() {
   if (!buffer_) return;
+  ctx_->liveBufferBytes_ -= size_;
   // The GPU may still read this buffer in a submitted batch: free it after that batch.
   ctx_->deferDestroy([device = ctx_->device(), buffer = buffer_, memory = memory_] {
     vkDestroyBuffer(device, buffer, nullptr);

@@ -152,6 +152,9 @@ class Context {
   // Times the CPU blocked on the GPU: wait() and waitIdle() calls, including those made by
   // blocking uploads, downloads and batches.
   std::uint64_t hostWaitCount() const { return hostWaitCount_; }
+  // Bytes of the gpu::Buffers alive on this Context (all kinds): what a long run checks stays
+  // flat. Thread-safe.
+  std::uint64_t liveBufferBytes() const { return liveBufferBytes_.load(); }
 
   // --- Deferred destruction. ---
   // Queues `destroy` to run after the last submission made so far has completed, or, while
@@ -220,6 +223,8 @@ class Context {
   PFN_vkCmdEndDebugUtilsLabelEXT cmdEndLabel_ = nullptr;
 
   std::atomic<std::uint64_t> validationMessages_{0};
+  std::atomic<std::uint64_t> liveBufferBytes_{0};  // kept by gpu::Buffer
+  friend class Buffer;
   DeletionQueue deletions_;
 };
 

@@ -14,8 +14,9 @@ int runFly(int argc, char** argv) {
   Args args(argc, argv, 2,
             renderValueOptions({"-o", "--path", "--speed", "--frames", "--width", "--height",
                                 "--image-every", "--cascades", "--atlas-mib", "--upload-mib",
-                                "--device", "--loader-threads", "--objects"}),
-            {"--help", "-h", "--cpu", "--no-pacing", "--layers"});
+                                "--device", "--loader-threads", "--objects", "--sun-orbit",
+                                "--metrics-every"}),
+            {"--help", "-h", "--cpu", "--no-pacing", "--layers", "--loop"});
   if (args.has("--help") || args.has("-h")) {
     std::printf(
         "usage: sdfstream fly WORLD -o DIR [options]\n"
@@ -30,6 +31,12 @@ int runFly(int argc, char** argv) {
         "  --path FILE        waypoints, one 'x y z' per line (default: a route across the world)\n"
         "  --speed M/S        camera speed (default 80 m/s, a fast fly-over)\n"
         "  --no-pacing        run frames back to back instead of at 30 per wall-clock second\n"
+        "  --loop             fly back and forth along the path (long runs; default: stop at\n"
+        "                     its end)\n"
+        "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees per frame (a\n"
+        "                     moving sun: the light cache relights every frame)\n"
+        "  --metrics-every K  keep the per-frame metrics of every K-th frame (default 1; long\n"
+        "                     runs keep memory flat with 1000)\n"
         "  --frames N         frames at 30 per second of path time (default 300)\n"
         "  --width W --height H   frame size (default 320 x 180)\n"
         "  --image-every K    write every K-th frame as PNG (default frames/6)\n"
@@ -65,6 +72,9 @@ int runFly(int argc, char** argv) {
   o.height = args.integer("--height", o.height, 16, 4096);
   o.imageEvery = args.integer("--image-every", std::max(1, o.frames / 6), 1, 100000);
   o.pacing = !args.has("--no-pacing");
+  o.loop = args.has("--loop");
+  o.sunDegreesPerFrame = args.number("--sun-orbit", 0.0);
+  o.metricsEvery = args.integer("--metrics-every", 1, 1, 1 << 30);
   o.layers = args.has("--layers");
   o.cascades = args.integer("--cascades", o.cascades, 1, 8);
   o.atlasMiB = args.number("--atlas-mib", o.atlasMiB);
