@@ -141,7 +141,12 @@ class Canvas {
       for (int dx = -radius; dx <= radius; ++dx)
         if (dx * dx + dy * dy <= radius * radius + radius) set(cx + dx, cy + dy, c);
   }
-  void clipTo(PixelRect r) { clip_ = r; }
+  // The clip never reaches outside the image: a degenerate chart's plot rectangle can (found by
+  // AddressSanitizer, Plot.DegenerateChartsDoNotCrash).
+  void clipTo(PixelRect r) {
+    clip_ = {std::max(r.x0, 0), std::max(r.y0, 0), std::min(r.x1, image_.width),
+             std::min(r.y1, image_.height)};
+  }
   void noClip() { clip_ = {0, 0, image_.width, image_.height}; }
 
  private:

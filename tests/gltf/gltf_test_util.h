@@ -23,7 +23,7 @@ inline void writeText(const std::filesystem::path& file, const std::string& text
 inline nlohmann::json gltfWithPositions(const std::filesystem::path& dir, const std::string& name,
                                         const std::vector<glm::vec3>& positions) {
   std::vector<char> bytes(positions.size() * sizeof(glm::vec3));
-  std::memcpy(bytes.data(), positions.data(), bytes.size());
+  if (!bytes.empty()) std::memcpy(bytes.data(), positions.data(), bytes.size());
   std::ofstream(dir / (name + ".bin"), std::ios::binary)
       .write(bytes.data(), std::streamsize(bytes.size()));
   nlohmann::json j;

@@ -93,8 +93,11 @@ double compareWithGrid(const World& world, const openvdb::FloatGrid& grid, doubl
   EXPECT_LE(worstExact, exactTol);
   EXPECT_GT(checked, 1000u);
   // Trilinear at random points inside the band of the grid.
+  // The sampler keeps a reference to its accessor: the accessor must outlive it (a temporary here
+  // was a stack-use-after-scope, found by AddressSanitizer).
+  const openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
   openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> ref(
-      grid.getConstAccessor(), grid.transform());
+      accessor, grid.transform());
   const openvdb::CoordBBox box = grid.evalActiveVoxelBoundingBox();
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
