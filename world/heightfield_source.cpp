@@ -152,6 +152,31 @@ Heightfield::Heightfield(int width, int height, std::vector<float> heights, doub
   maxHeight_ = *mx;
 }
 
+namespace {
+
+// Walks the PNG's chunks (length, type, data, CRC) from just after the signature to IEND: every
+// length must fit in the bytes left. stb grows its IDAT buffer to what a length claims before
+// reading it, so a 60-byte file claiming a 2 GiB chunk would allocate 2 GiB (found by fuzzing).
+void checkPngChunks(std::ifstream& in, std::uintmax_t fileSize, const std::string& file) {
+  std::uintmax_t pos = 8;
+  while (pos + 12 <= fileSize) {
+    unsigned char header[8];
+    in.seekg(std::streamoff(pos));
+    if (!in.read(reinterpret_cast<char*>(header), 8)) break;
+    const std::uint32_t length = std::uint32_t(header[0]) << 24 | std::uint32_t(header[1]) << 16 |
+                                 std::uint32_t(header[2]) << 8 | std::uint32_t(header[3]);
+    if (length > fileSize - pos - 12)
+      throw InputError(Kind::Truncated, file,
+                       "PNG chunk at byte " + std::to_string(pos) + " declares " +
+                           std::to_string(length) + " bytes, more than the file holds");
+    if (std::memcmp(header + 4, "IEND", 4) == 0) return;
+    pos += 12 + std::uintmax_t(length);
+  }
+  // No IEND: stb decides (a file cut short in a chunk header is its error to report).
+}
+
+}  // namespace
+
 Heightfield Heightfield::load(const HeightfieldDesc& desc) {
   const std::string file = desc.png.string();
   if (!(desc.metresPerPixel > 0.0) || !std::isfinite(desc.metresPerPixel))
@@ -168,6 +193,7 @@ Heightfield Heightfield::load(const HeightfieldDesc& desc) {
   probe.read(reinterpret_cast<char*>(signature), 8);
   if (probe.gcount() != 8 || std::memcmp(signature, kPngSignature, 8) != 0)
     throw InputError(Kind::Malformed, file, "not a PNG file (a heightmap must be a PNG)");
+  checkPngChunks(probe, std::filesystem::file_size(desc.png, ec), file);
   probe.close();
   int w = 0, h = 0, channels = 0;
   if (stbi_info(file.c_str(), &w, &h, &channels) == 0)
@@ -180,6 +206,13 @@ Heightfield Heightfield::load(const HeightfieldDesc& desc) {
     throw InputError(Kind::TooLarge, file,
                      std::to_string(w) + "x" + std::to_string(h) + " pixels, more than the " +
                          std::to_string(std::int64_t(kMaxPixels)) + " a heightmap may have");
+  const double decoded =
+      double(w) * double(h) * double(channels) * (stbi_is_16_bit(file.c_str()) ? 2.0 : 1.0);
+  if (decoded > kMaxDecodedBytes)
+    throw InputError(Kind::TooLarge, file,
+                     std::to_string(w) + "x" + std::to_string(h) + " pixels of " +
+                         std::to_string(channels) + " channels decode to more than " +
+                         std::to_string(std::int64_t(kMaxDecodedBytes) >> 20) + " MiB");
   // stbi_load_16 widens 8-bit images to 16 bits (v·257), so full scale is always 65535.
   stbi_us* data = stbi_load_16(file.c_str(), &w, &h, &channels, 1);
   if (!data)

@@ -49,10 +49,15 @@ class Heightfield {
   // (stb's 8- and 16-bit buffers, heights, gradients), so this is ~4 GiB: a real terrain fits,
   // and the size is refused from the header before anything is decoded.
   static constexpr double kMaxPixels = double(1 << 28);
+  // The most bytes stb's first decode buffer may take (pixels × the file's channels × bytes per
+  // channel): 16-bit RGBA at kMaxPixels would be 2 GiB in one allocation.
+  static constexpr double kMaxDecodedBytes = double(1u << 30);
 
   // Reads desc.png with stb_image. Throws InputError naming the file: Io (cannot open),
   // Malformed (no PNG signature, or not decodable; stb's reason given), Empty (fewer than 2×2
-  // pixels), TooLarge (more than kMaxPixels), Malformed for metresPerPixel ≤ 0 / heightScale < 0.
+  // pixels), TooLarge (more than kMaxPixels or kMaxDecodedBytes), Malformed for metresPerPixel ≤ 0
+  // / heightScale < 0, Truncated (a PNG chunk longer than the bytes left: stb would allocate what
+  // the length claims before noticing).
   // Safe on untrusted input: PNG only, because stb's other decoders (BMP, TGA, PSD, ...) accept a
   // file that ends right after a header declaring 16384² pixels and return zeros for the rest,
   // and a PNG's pixels must all be present (so their count is bounded by the file's size).

@@ -250,7 +250,8 @@ TEST(Heightfield, BadImagesNameTheFile) {
   std::ifstream in(dir / "good.png", std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   test::writeText(dir / "truncated.png", bytes.substr(0, bytes.size() / 2));
-  msg = test::expectInputError([&] { load(dir / "truncated.png"); }, Kind::Malformed);
+  // Cut inside its IDAT chunk: the chunk walk sees the length run past the end.
+  msg = test::expectInputError([&] { load(dir / "truncated.png"); }, Kind::Truncated);
   EXPECT_NE(msg.find("truncated.png"), std::string::npos) << msg;
 
   msg = test::expectInputError([&] { load(dir / "missing.png"); }, Kind::Io);
@@ -308,6 +309,24 @@ TEST(Heightfield, UnknownChunkTypeKeepsTheErrorOneLine) {
       Kind::Malformed);
   EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   EXPECT_NE(msg.find("\\x0aAAA PNG chunk not known"), std::string::npos) << msg;
+}
+
+// A chunk whose length claims more bytes than the file holds: stb would grow its IDAT buffer to
+// the claimed length (2 GiB from a 60-byte file) before reading; refused from the chunk walk.
+TEST(Heightfield, ChunkLongerThanTheFileIsTruncated) {
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  auto chunk = [&](const std::string& type, const std::string& data, std::uint32_t length) {
+    for (int shift : {24, 16, 8, 0}) png += char(length >> shift);
+    png += type + data + std::string(4, '\0');
+  };
+  chunk("IHDR", std::string("\0\0\0\4\0\0\0\4\x08\0\0\0\0", 13), 13);  // 4x4, 8-bit grey
+  chunk("IDAT", "x", 0x7fffffffu);
+  const fs::path dir = test::scratchDir("hf-long-chunk");
+  test::writeText(dir / "long.png", png);
+  const std::string msg = test::expectInputError(
+      [&] { Heightfield::load(HeightfieldDesc{dir / "long.png", 1.0, 1.0, glm::dvec3(0.0), {}}); },
+      Kind::Truncated);
+  EXPECT_NE(msg.find("2147483647 bytes"), std::string::npos) << msg;
 }
 
 }  // namespace
