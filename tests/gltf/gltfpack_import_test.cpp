@@ -123,12 +123,21 @@ INSTANTIATE_TEST_SUITE_P(Variants, GltfpackCornell,
                                            "cornell-float-positions.glb",
                                            "cornell-meshopt-text.gltf"));
 
+// A scratch copy of cornell-meshopt-text (its .bin beside), for a test to break its JSON.
+struct MeshoptCopy {
+  fs::path dir;
+  nlohmann::json json;
+};
+MeshoptCopy meshoptCopy(const std::string& name) {
+  MeshoptCopy c{test::scratchDir(name), readJson(dataDir() / "cornell-meshopt-text.gltf")};
+  fs::copy_file(dataDir() / "cornell-meshopt-text.bin", c.dir / "cornell-meshopt-text.bin");
+  return c;
+}
+
 // The compressed stream cut short must fail as undecodable data, naming the bufferView, not as a
 // truncated file (the file is whole; its compressed view is not).
 TEST(GltfpackBadInput, UndecodableMeshoptViewNamesIt) {
-  const fs::path dir = test::scratchDir("gltf-meshopt-bad");
-  fs::copy_file(dataDir() / "cornell-meshopt-text.bin", dir / "cornell-meshopt-text.bin");
-  nlohmann::json j = readJson(dataDir() / "cornell-meshopt-text.gltf");
+  auto [dir, j] = meshoptCopy("gltf-meshopt-bad");
   auto& ext = j["bufferViews"][0]["extensions"]["EXT_meshopt_compression"];
   ext["byteLength"] = ext["byteLength"].get<int>() / 2;
   const std::string msg = test::expectInputError(
@@ -138,9 +147,7 @@ TEST(GltfpackBadInput, UndecodableMeshoptViewNamesIt) {
 }
 
 TEST(GltfpackBadInput, CompressedBytesOutsideTheirBufferAreOutOfRange) {
-  const fs::path dir = test::scratchDir("gltf-meshopt-range");
-  fs::copy_file(dataDir() / "cornell-meshopt-text.bin", dir / "cornell-meshopt-text.bin");
-  nlohmann::json j = readJson(dataDir() / "cornell-meshopt-text.gltf");
+  auto [dir, j] = meshoptCopy("gltf-meshopt-range");
   j["bufferViews"][1]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 100000;
   const std::string msg = test::expectInputError(
       [&] { loadGltf(test::save(dir, "far", j)); }, InputErrorKind::OutOfRange);
@@ -148,9 +155,7 @@ TEST(GltfpackBadInput, CompressedBytesOutsideTheirBufferAreOutOfRange) {
 }
 
 TEST(GltfpackBadInput, DecodedSizeFarBeyondTheCompressedBytesIsRefusedBeforeAllocating) {
-  const fs::path dir = test::scratchDir("gltf-meshopt-bomb");
-  fs::copy_file(dataDir() / "cornell-meshopt-text.bin", dir / "cornell-meshopt-text.bin");
-  nlohmann::json j = readJson(dataDir() / "cornell-meshopt-text.gltf");
+  auto [dir, j] = meshoptCopy("gltf-meshopt-bomb");
   j["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = 4000000000u;
   const std::string msg = test::expectInputError(
       [&] { loadGltf(test::save(dir, "bomb", j)); }, InputErrorKind::Malformed);
@@ -158,9 +163,7 @@ TEST(GltfpackBadInput, DecodedSizeFarBeyondTheCompressedBytesIsRefusedBeforeAllo
 }
 
 TEST(GltfpackBadInput, UncompressedViewOfTheFallbackBufferIsRefused) {
-  const fs::path dir = test::scratchDir("gltf-meshopt-fallback");
-  fs::copy_file(dataDir() / "cornell-meshopt-text.bin", dir / "cornell-meshopt-text.bin");
-  nlohmann::json j = readJson(dataDir() / "cornell-meshopt-text.gltf");
+  auto [dir, j] = meshoptCopy("gltf-meshopt-fallback");
   j["bufferViews"][0].erase("extensions");
   const std::string msg = test::expectInputError(
       [&] { loadGltf(test::save(dir, "plain", j)); }, InputErrorKind::Malformed);
