@@ -327,6 +327,13 @@ TEST(Heightfield, ChunkLongerThanTheFileIsTruncated) {
       [&] { Heightfield::load(HeightfieldDesc{dir / "long.png", 1.0, 1.0, glm::dvec3(0.0), {}}); },
       Kind::Truncated);
   EXPECT_NE(msg.find("2147483647 bytes"), std::string::npos) << msg;
+  // What heightmap_fuzz found on the H200 host (92 bytes): an IDAT whose length swallows IEND,
+  // then a chunk claiming 1.6 GB; stb reallocated 2 GiB before reading it.
+  const fs::path found = test::sourceDir() / "tests/terrain/data/fuzz-idat-claims-1.6GB.png";
+  const std::string fuzzed = test::expectInputError(
+      [&] { Heightfield::load(HeightfieldDesc{found, 1.0, 1.0, glm::dvec3(0.0), {}}); },
+      Kind::Truncated);
+  EXPECT_NE(fuzzed.find("1610612757 bytes"), std::string::npos) << fuzzed;
 }
 
 }  // namespace
