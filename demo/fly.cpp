@@ -116,6 +116,7 @@ class FlyThrough {
     if (context_)
       renderer_ = std::make_unique<GiRenderer>(*context_, render_.renderer,
                                                std::uint32_t(stack_.cascadeCount()));
+    if (renderer_) reserveAtlas();
     if (renderer_ && o.objects > 0) placeObjects();
     fs::create_directories(o.out / "frames");
   }
@@ -254,6 +255,23 @@ class FlyThrough {
     }
   }
 
+  // The atlas on the device before the first frame: with too little device memory for the
+  // budget, fewer slots (fewer resident bricks; the rest count as atlas-full pages) instead of
+  // an allocation failure.
+  void reserveAtlas() {
+    const std::uint32_t want = stack_.atlasSlots();
+    const std::uint32_t got = renderer_->reserveAtlasSlots(want);
+    if (got >= want) return;
+    stack_.limitAtlasSlots(got);
+    atlasSlotsWanted_ = want;
+    std::fprintf(stderr,
+                 "note: the device's memory holds %u of the %u brick atlas slots asked for "
+                 "(%.1f of %.1f MiB): fewer bricks stay resident, the rest are counted as "
+                 "atlas-full pages\n",
+                 got, want, double(stack_.atlasBytes()) / (1 << 20),
+                 double(want) * double(stack_.atlasBytes()) / double(got) / (1 << 20));
+  }
+
   void turnSuns() {
     const float a = float(o_.sunDegreesPerFrame * 3.14159265358979323846 / 180.0);
     const float c = std::cos(a), s = std::sin(a);
@@ -275,15 +293,16 @@ class FlyThrough {
       peak.gpuBuffers = std::max(peak.gpuBuffers, m.gpuBuffers);
     }
     auto mib = [](std::uint64_t b) { return double(b) / double(1 << 20); };
-    char text[640];
+    char text[1024];
     std::snprintf(text, sizeof text,
                   "\n## Memory over the run\n\n| | start (frame %d) | peak | end (frame %d) |\n"
                   "|---|---|---|---|\n| RSS | %.1f MiB | %.1f MiB | %.1f MiB |\n"
                   "| GPU buffers | %.1f MiB | %.1f MiB | %.1f MiB |\n\n"
-                  "Rendered pixels not finite: %llu of %llu.\n",
+                  "Rendered pixels not finite: %llu of %llu.%s\n",
                   start.frame + 1, end.frame + 1, mib(start.rss), mib(peak.rss), mib(end.rss),
                   mib(start.gpuBuffers), mib(peak.gpuBuffers), mib(end.gpuBuffers),
-                  (unsigned long long)nonFinitePixels_, (unsigned long long)renderedPixels_);
+                  (unsigned long long)nonFinitePixels_, (unsigned long long)renderedPixels_,
+                  degradedNote().c_str());
     return text;
   }
 
@@ -343,6 +362,13 @@ class FlyThrough {
   StreamFrameStats lastStream_{};
   std::size_t lastCachedTiles_ = 0;
   std::uint64_t nonFinitePixels_ = 0, renderedPixels_ = 0;
+  std::uint32_t atlasSlotsWanted_ = 0;  // non-zero: the device held fewer slots (reserveAtlas)
+
+  std::string degradedNote() const {
+    if (!atlasSlotsWanted_) return "";
+    return " Device memory held " + std::to_string(stack_.atlasSlots()) + " of the " +
+           std::to_string(atlasSlotsWanted_) + " atlas slots asked for (fewer resident bricks).";
+  }
   std::vector<GiFrameMetrics> giMetrics_;
 };
 

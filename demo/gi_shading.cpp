@@ -293,6 +293,10 @@ GiRenderer::~GiRenderer() = default;
 
 const GpuStackScene& GiRenderer::scene() const { return gi_ ? gi_->scene() : *scene_; }
 
+std::uint32_t GiRenderer::reserveAtlasSlots(std::uint32_t slots) {
+  return gi_ ? gi_->reserveAtlasSlots(slots) : scene_->reserveAtlas(slots);
+}
+
 const ObjectScene* GiRenderer::objectScene() const {
   if (!objectLibrary_) return nullptr;
   return gi_ ? &gi_->objects() : objects_.get();

@@ -189,6 +189,9 @@ class GiRenderer {
   const GiFrameTimes& lastTimes() const { return times_; }
   bool giEnabled() const { return gi_ != nullptr; }
   std::size_t probeDeviceBytes() const;
+  // The atlas slots the device could hold, at most `slots` (GpuStackScene::reserveAtlas): call
+  // before the first update and keep the stack within them (CascadeStack::limitAtlasSlots).
+  std::uint32_t reserveAtlasSlots(std::uint32_t slots);
 
  private:
   const GpuStackScene& scene() const;

@@ -112,6 +112,8 @@ class GiSystem {
   std::array<VkDescriptorBufferInfo, kSampleBindingCount> sampleBindings() const;
 
   const GpuStackScene& scene() const { return scene_; }
+  // GpuStackScene::reserveAtlas: the atlas slots the device could hold, at most `slots`.
+  std::uint32_t reserveAtlasSlots(std::uint32_t slots) { return scene_.reserveAtlas(slots); }
   const LightCache& lightCache() const { return light_; }
   const probe::ProbeField& probes() const { return probes_; }
   probe::ProbeField& probes() { return probes_; }

@@ -75,15 +75,35 @@ std::size_t GpuStackScene::recordUploadAll(gpu::CommandBatch& batch, gpu::Stagin
   return bytes;
 }
 
+std::uint32_t GpuStackScene::reserveAtlas(std::uint32_t slots) {
+  constexpr std::uint32_t kMinSlots = 64;
+  for (;;) {
+    try {
+      ensure(context_, distance_, std::size_t(slots) * kDistWords * 4);
+      ensure(context_, albedo_, std::size_t(slots) * kMatWords * 4);
+      ensure(context_, emission_, std::size_t(slots) * kMatWords * 4);
+      slotCap_ = slots;
+      return slots;
+    } catch (const gpu::OutOfDeviceMemory&) {
+      if (slots / 2 < kMinSlots) throw;
+      slots /= 2;
+      distance_ = gpu::Buffer();
+      albedo_ = gpu::Buffer();
+      emission_ = gpu::Buffer();
+    }
+  }
+}
+
 std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                                       const CascadeStack& stack,
                                       std::span<const std::uint32_t> dirty) {
   const CascadeStackImage img = stack.stackImage();
   cascadeCount_ = std::uint32_t(img.params.size());
   slotCount_ = std::uint32_t(stack.atlasDistance().size() / kDistWords);
-  ensure(context_, distance_, stack.atlasDistance().size() * 4);
-  ensure(context_, albedo_, stack.atlasAlbedo().size() * 4);
-  ensure(context_, emission_, stack.atlasEmission().size() * 4);
+  if (slotCap_ && slotCount_ > slotCap_) slotCount_ = slotCap_;  // the stack keeps below the cap
+  ensure(context_, distance_, std::size_t(slotCount_) * kDistWords * 4);
+  ensure(context_, albedo_, std::size_t(slotCount_) * kMatWords * 4);
+  ensure(context_, emission_, std::size_t(slotCount_) * kMatWords * 4);
   std::size_t bytes = recordVector(context_, batch, staging, pageTables_, img.pageTables);
   bytes += recordVector(context_, batch, staging, params_, img.params);
   bytes += recordSlots(batch, staging, stack.atlasDistance(), distance_, kDistWords, dirty);

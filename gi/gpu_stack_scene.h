@@ -35,6 +35,11 @@ class GpuStackScene {
 
   std::uint32_t cascadeCount() const { return cascadeCount_; }
   std::uint32_t slotCount() const { return slotCount_; }
+  // Allocates the atlas buffers for `slots` brick slots before the first upload, halving the
+  // count while the device has no memory for them (gpu::OutOfDeviceMemory), down to 64 slots
+  // (then it rethrows). Returns the slots it could allocate; uploads never grow the atlas past
+  // them, so the caller must keep the stack within them (CascadeStack::limitAtlasSlots).
+  std::uint32_t reserveAtlas(std::uint32_t slots);
   const gpu::Buffer& pageTables() const { return pageTables_; }
   const gpu::Buffer& distance() const { return distance_; }
   const gpu::Buffer& albedo() const { return albedo_; }
@@ -45,6 +50,7 @@ class GpuStackScene {
   gpu::Context& context_;
   std::uint32_t cascadeCount_ = 0;
   std::uint32_t slotCount_ = 0;
+  std::uint32_t slotCap_ = 0;  // reserveAtlas's slots; 0: as many as the stack has
   gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
 };
 

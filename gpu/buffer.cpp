@@ -1,7 +1,9 @@
 #include "gpu/buffer.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "gpu/check.h"
@@ -60,7 +62,19 @@ Buffer::Buffer(Context& ctx, std::size_t bytes, BufferKind kind)
     VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     alloc.allocationSize = req.size;
     alloc.memoryTypeIndex = chooseMemoryType(ctx, req.memoryTypeBits, kind);
-    SDFSTREAM_VK(vkAllocateMemory(device, &alloc, nullptr, &memory_));
+    static const double injectedMiB = [] {
+      const char* v = std::getenv("SDFSTREAM_INJECT_DEVICE_MEMORY_MIB");
+      return v && *v ? std::strtod(v, nullptr) : -1.0;
+    }();
+    const VkResult allocated =
+        kind == BufferKind::DeviceLocal && injectedMiB >= 0.0 &&
+                double(ctx.liveBufferBytes() + req.size) > injectedMiB * double(1 << 20)
+            ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+            : vkAllocateMemory(device, &alloc, nullptr, &memory_);
+    if (allocated == VK_ERROR_OUT_OF_DEVICE_MEMORY)
+      throw OutOfDeviceMemory("no device memory left for a buffer of " +
+                              std::to_string(req.size >> 20) + " MiB on " + ctx.deviceName());
+    SDFSTREAM_VK(allocated);
     SDFSTREAM_VK(vkBindBufferMemory(device, buffer_, memory_, 0));
     if (kind != BufferKind::DeviceLocal)
       SDFSTREAM_VK(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));

@@ -74,6 +74,15 @@ class DeviceLost : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Thrown by gpu::Buffer when the device has no memory left for it (VK_ERROR_OUT_OF_DEVICE_MEMORY,
+// or, for tests, SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=N: a device-local buffer that would take the
+// Context's live buffers past N MiB).
+// Callers that can make do with less catch it and ask for less (GpuStackScene::reserveAtlas).
+class OutOfDeviceMemory : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class Context {
  public:
   // Throws std::runtime_error with a one-line reason: no matching/suitable device, validation

@@ -40,6 +40,19 @@ CascadeStack::CascadeStack(const TileStore& store, TileLoader& loader, Streaming
 
 double CascadeStack::voxelSize(int c) const { return store_.spec().lodVoxelSize(c); }
 
+void CascadeStack::limitAtlasSlots(std::uint32_t slots) {
+  if (slots >= options_.atlasSlots) return;
+  for (Cascade& c : cascades_)
+    for (std::uint32_t& e : c.entries)
+      if ((e & layout::kPageResidentBit) && (e & layout::kPagePayloadMask) >= slots)
+        e = layout::kPageMissing;
+  freeSlots_.erase(std::remove_if(freeSlots_.begin(), freeSlots_.end(),
+                                  [&](std::uint32_t s) { return s >= slots; }),
+                   freeSlots_.end());
+  std::erase_if(dirtySlots_, [&](std::uint32_t s) { return s >= slots; });
+  options_.atlasSlots = slots;
+}
+
 std::size_t CascadeStack::atlasBytes() const { return std::size_t(options_.atlasSlots) * kBrickBytes; }
 
 std::vector<std::uint32_t> CascadeStack::takeDirtySlots() {

@@ -87,6 +87,11 @@ class CascadeStack {
   const std::vector<std::uint32_t>& atlasEmission() const { return emission_; }
   std::vector<std::uint32_t> takeDirtySlots();
   std::size_t atlasBytes() const;
+  std::uint32_t atlasSlots() const { return options_.atlasSlots; }
+  // Keeps the stack within the first `slots` atlas slots (the device could not hold them all):
+  // resident pages in slots beyond are released (they stream in again into slots below, or
+  // count as atlasFullPages when none is free). Never grows the budget.
+  void limitAtlasSlots(std::uint32_t slots);
   // Every cascade as the stack traversal takes it (copies the page tables, points at the atlas).
   CascadeStackImage stackImage() const;
   // A cascade as the single-cascade tracer takes it (copies the page table and the atlas).

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "tests/support/run_cli.h"
@@ -83,6 +85,34 @@ TEST(CliGpuFaults, AtlasBudgetBeyondTheDeviceIsRefusedAtStartUp) {
                                                           " --frames 2 --atlas-mib -5");
   EXPECT_EQ(silly.exitCode, 2) << silly.err;
   EXPECT_EQ(lineCount(silly.err), 1) << silly.err;
+}
+
+// The device pretends to have less memory than the GI and the atlas need together
+// (SDFSTREAM_INJECT_DEVICE_MEMORY_MIB): fly keeps fewer atlas slots, says so, finishes, and the
+// summary reports it, instead of dying on the allocation.
+TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
+  const fs::path dir = smallWorld("cli-device-oom");
+  const std::string world = (dir / "world").string();
+  const std::string args = " --frames 4 --width 32 --height 24 --no-pacing --objects 0 "
+                           "--atlas-mib 32 --probe-budget 4096";
+  // What the run needs with the whole atlas: the progress line's live GPU buffers.
+  test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
+                                                         (dir / "full").string() + args);
+  ASSERT_EQ(full.exitCode, 0) << full.err;
+  const std::size_t at = full.err.find("GPU buffers ");
+  ASSERT_NE(at, std::string::npos) << full.err;
+  const double needed = std::stod(full.err.substr(at + 12));
+  // 20 MiB short: the 32 MiB atlas does not fit, a quarter of it does.
+  const std::string budget = std::to_string(int(needed) - 20);
+  test::CliResult lean = test::runCli(
+      "SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=" + budget + " timeout 300 " + SDFSTREAM_CLI,
+      "fly " + world + " -o " + (dir / "lean").string() + args);
+  EXPECT_EQ(lean.exitCode, 0) << lean.err;
+  EXPECT_NE(lean.err.find("note: the device's memory holds"), std::string::npos) << lean.err;
+  EXPECT_EQ(lean.err.find("error"), std::string::npos) << lean.err;
+  std::ifstream summary(dir / "lean" / "summary.md");
+  const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Device memory held"), std::string::npos) << text;
 }
 
 }  // namespace
