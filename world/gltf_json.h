@@ -29,8 +29,8 @@ class JsonReader {
   std::size_t index(const char* key, std::size_t fallback) const;
   std::string string(const char* key, const char* fallback) const;
   bool boolean(const char* key, bool fallback) const;
-  // `n` numbers (n = 2, 3 or 4 use the first n entries of `out`, whose defaults are kept
-  // when the key is absent).
+  // Exactly `n` numbers into out[0..n); out keeps its values (the defaults) when the key is
+  // absent.
   void numbers(const char* key, double* out, std::size_t n) const;
   // The object extensions.<name>, or nullptr when absent (checkTypes saw it is an object).
   const Json* extension(const char* name) const;
