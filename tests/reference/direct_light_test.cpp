@@ -2,6 +2,9 @@
 // reference/path_tracer.h). On an open floor with no sky nothing is reflected back, so the
 // irradiance is exactly the direct term and has no variance.
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -9,6 +12,8 @@
 #include "reference/path_tracer.h"
 #include "shaders/shared/light_layout.h"
 #include "tests/reference/test_scenes.h"
+#include "tests/support/test_data.h"
+#include "world/gltf_import.h"
 
 namespace sdfstream::reference {
 namespace {
@@ -182,6 +187,44 @@ TEST(DirectLight, TooManyLightsThrow) {
   SceneLights lights;
   lights.lights.assign(gpu_shared::kMaxLights + 1, sun(0.0f, 1.0f, glm::vec3(1.0f)));
   EXPECT_THROW(PathTracer(floor, lights), std::invalid_argument);
+}
+
+// A glTF scene's own light (KHR_lights_punctual, placed by its node) is what the reference
+// lights with when handed TriangleScene::lights: a spot 2 m above a floor, pointing down, gives
+// I/d² under it and nothing outside its cone.
+TEST(PathTracerDirect, AGltfSceneIsLitByItsOwnSpot) {
+  const std::filesystem::path dir = test::scratchDir("ref-gltf-spot");
+  const float v[12] = {-20, 0, -20, 20, 0, -20, 20, 0, 20, -20, 0, 20};
+  const std::uint16_t idx[6] = {0, 2, 1, 0, 3, 2};
+  {
+    std::ofstream bin(dir / "floor.bin", std::ios::binary);
+    bin.write(reinterpret_cast<const char*>(v), sizeof v);
+    bin.write(reinterpret_cast<const char*>(idx), sizeof idx);
+  }
+  // The spot's node turns -Z (the way a glTF light points) down to -Y: -90 degrees about +X.
+  std::ofstream(dir / "lit.gltf") << R"({"asset": {"version": "2.0"},
+    "extensionsUsed": ["KHR_lights_punctual"],
+    "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "intensity": 8.0,
+        "spot": {"innerConeAngle": 0.3, "outerConeAngle": 0.4}}]}},
+    "buffers": [{"uri": "floor.bin", "byteLength": 60}],
+    "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3"},
+                  {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+    "nodes": [{"mesh": 0}, {"translation": [0, 2, 0], "rotation": [-0.70710678, 0, 0, 0.70710678],
+               "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+    "scenes": [{"nodes": [0, 1]}]})";
+  const TriangleScene scene = loadGltf(dir / "lit.gltf");
+  ASSERT_EQ(scene.lights.size(), 1u);
+  SceneLights lights;
+  lights.lights = scene.lights;
+  const PathTracer tracer(scene, lights);
+  // Under the spot: d = 2 m, on its axis, facing it: E = I / d^2 (shadow rays leave the floor).
+  const glm::vec3 under = tracer.directIrradiance(glm::vec3(0.0f, 0.0f, 0.0f), kUp);
+  EXPECT_NEAR(under.g, 8.0f / 4.0f, 0.02f);
+  // 3 m to the side the direction from the light is atan(3/2) = 56 degrees off its axis, outside
+  // the 23-degree outer cone.
+  EXPECT_EQ(tracer.directIrradiance(glm::vec3(3.0f, 0.0f, 0.0f), kUp), glm::vec3(0.0f));
 }
 
 }  // namespace
