@@ -19,9 +19,9 @@ namespace sdfstream {
 namespace {
 namespace fs = std::filesystem;
 
-// A 6 m floor quad at y = 0 and a point light 1 m above its centre.
+// A 20 m floor quad at y = 0 and a point light 1 m above its centre.
 fs::path writeLitFloor(const fs::path& dir) {
-  const float v[12] = {-3, 0, -3, 3, 0, -3, 3, 0, 3, -3, 0, 3};
+  const float v[12] = {-10, 0, -10, 10, 0, -10, 10, 0, 10, -10, 0, 10};
   const std::uint16_t idx[6] = {0, 2, 1, 0, 3, 2};
   std::ofstream bin(dir / "floor.bin", std::ios::binary);
   bin.write(reinterpret_cast<const char*>(v), sizeof v);
@@ -34,7 +34,7 @@ fs::path writeLitFloor(const fs::path& dir) {
   j["bufferViews"] = {{{"buffer", 0}, {"byteLength", sizeof v}},
                       {{"buffer", 0}, {"byteOffset", sizeof v}, {"byteLength", sizeof idx}}};
   j["accessors"] = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-                     {"min", {-3, 0, -3}}, {"max", {3, 0, 3}}},
+                     {"min", {-10, 0, -10}}, {"max", {10, 0, 10}}},
                     {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}};
   j["meshes"] = {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}};
   j["extensions"]["KHR_lights_punctual"]["lights"] = {
@@ -103,6 +103,25 @@ TEST(CliSceneLights, ImportedLightsAreStoredAndLightTheRender) {
   EXPECT_GT(lit.mean(), unlit.mean() + 10.0) << "the pack's light does not light the render";
   // A point light 1 m above the centre: the floor under it is brighter than near the edges.
   EXPECT_GT(lit.luminance(24, 24), lit.luminance(24, 4) + 10.0);
+
+  // fly takes the same lights (direct light only on the CPU reference), descending towards the
+  // light, looking down at the floor around it; 60 paced frames (2 s) so the tiles have
+  // streamed in by the last, the one compared.
+  std::ofstream(dir / "path.txt") << "0 3 -4\n0 1 -1\n";
+  const std::string flyArgs = " --cpu --frames 60 --width 48 --height 27 --image-every 59"
+                              " --path " + (dir / "path.txt").string();
+  test::CliResult flyOwn = test::runCli(
+      SDFSTREAM_CLI, "fly " + world.string() + " -o " + (dir / "fly-own").string() + flyArgs);
+  ASSERT_EQ(flyOwn.exitCode, 0) << flyOwn.err;
+  test::CliResult flyDark =
+      test::runCli(SDFSTREAM_CLI, "fly " + world.string() + " -o " + (dir / "fly-dark").string() +
+                                      flyArgs + " --sun 0,-1,0,0");
+  ASSERT_EQ(flyDark.exitCode, 0) << flyDark.err;
+  const Image flyLit = readPng(dir / "fly-own" / "frames" / "frame-0059.png");
+  const Image flyUnlit = readPng(dir / "fly-dark" / "frames" / "frame-0059.png");
+  ASSERT_EQ(flyLit.width, 48);
+  ASSERT_EQ(flyUnlit.width, 48);
+  EXPECT_GT(flyLit.mean(), flyUnlit.mean() + 5.0) << "fly ignores the pack's light";
 }
 
 }  // namespace
