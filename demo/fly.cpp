@@ -92,9 +92,10 @@ LoaderOptions loaderOptions(const FlyOptions& o) {
   return lo;
 }
 
-RenderOptions renderOptionsFor(const FlyOptions& o, const gpu::Context* context) {
+RenderOptions renderOptionsFor(const FlyOptions& o, const PackManifest& manifest,
+                               const gpu::Context* context) {
   RenderOptions render = o.render;
-  usePackLights(render, o.world);
+  useOwnLights(render, manifest.lights, o.world.string());  // the manifest the store already read
   resolveProbeBudget(render.renderer.settings, context);
   return render;
 }
@@ -110,7 +111,7 @@ class FlyThrough {
                      : defaultFlyPath(store_.manifest().boundsMin, store_.manifest().boundsMax)),
         length_(path_.length()),
         context_(o.device ? gpu::Context::create(*o.device) : nullptr),
-        render_(renderOptionsFor(o, context_.get())),
+        render_(renderOptionsFor(o, store_.manifest(), context_.get())),
         loader_(store_, loaderOptions(o)),
         stack_(store_, loader_, streamingOptions(o, context_.get())) {
     if (context_)

@@ -145,8 +145,6 @@ Document loadDocument(const std::filesystem::path& path, const std::string& file
     doc.json = parseAndCheckJson(
         std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file);
   }
-  if (length > std::size_t(UINT32_MAX))
-    throw InputError(Kind::TooLarge, file, "larger than 4 GiB, the most tinygltf can read");
   refuseUnsupportedRequirements(doc.json, file);
   // tinygltf cannot load EXT_meshopt_compression's fallback buffers (they have no data); they
   // become one-byte placeholders, and the JSON tinygltf sees changes with them.
@@ -158,9 +156,9 @@ Document loadDocument(const std::filesystem::path& path, const std::string& file
       bytes.assign(text.begin(), text.end());
     }
     length = bytes.size();
-    if (length > std::size_t(UINT32_MAX))
-      throw InputError(Kind::TooLarge, file, "larger than 4 GiB, the most tinygltf can read");
   }
+  if (length > std::size_t(UINT32_MAX))
+    throw InputError(Kind::TooLarge, file, "larger than 4 GiB, the most tinygltf can read");
   doc.model = runTinygltf(bytes, length, binary, path, file);
   decodeMeshoptBufferViews(doc, file);
   return doc;

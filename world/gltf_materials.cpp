@@ -1,6 +1,7 @@
 #include "world/gltf_materials.h"
 
 #include <cmath>
+#include <initializer_list>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -12,22 +13,20 @@ namespace {
 
 using Kind = InputErrorKind;
 
-// The JSON object at json[a][i][b]...: nullptr when any step is absent (types were checked).
-const Json* find(const Json& root, std::initializer_list<const char*> keys, std::size_t index) {
-  const Json* j = &root;
-  bool first = true;
+// The member reached by `keys` from `j`, or nullptr when any step is absent.
+const Json* find(const Json* j, std::initializer_list<const char*> keys) {
   for (const char* key : keys) {
-    if (!j->is_object()) return nullptr;
+    if (!j || !j->is_object()) return nullptr;
     auto it = j->find(key);
-    if (it == j->end()) return nullptr;
-    j = &*it;
-    if (first) {
-      if (!j->is_array() || index >= j->size()) return nullptr;
-      j = &(*j)[index];
-      first = false;
-    }
+    j = it == j->end() ? nullptr : &*it;
   }
   return j;
+}
+
+// materials[i] of the file's JSON (tinygltf read the same array, so i is in range).
+const Json* materialJson(const Json& root, std::size_t i) {
+  const Json* list = find(&root, {"materials"});
+  return list && list->is_array() && i < list->size() ? &(*list)[i] : nullptr;
 }
 
 }  // namespace
@@ -115,14 +114,14 @@ void MaterialImporter::importAll() {
       m.baseColorFactor = glm::vec4(glm::make_vec4(pbr.baseColorFactor.data()));
     m.baseColorTexture = importTexture(pbr.baseColorTexture.index, where);
     m.baseColorTexCoord = pbr.baseColorTexture.texCoord;
-    readTransform(find(doc_.json, {"materials", "pbrMetallicRoughness", "baseColorTexture"}, i),
+    const Json* json = materialJson(doc_.json, i);
+    readTransform(find(json, {"pbrMetallicRoughness", "baseColorTexture"}),
                   path + ".pbrMetallicRoughness.baseColorTexture", m.baseColorUv,
                   m.baseColorTexCoord);
     // The archived specular-glossiness model: its diffuse colour is the closest to a base colour
     // and is all a Lambertian GI reads (gltfpack writes both; older exporters only this one).
-    const Json* sg =
-        find(doc_.json, {"materials", "extensions", "KHR_materials_pbrSpecularGlossiness"}, i);
-    if (sg && !find(doc_.json, {"materials", "pbrMetallicRoughness"}, i)) {
+    const Json* sg = find(json, {"extensions", "KHR_materials_pbrSpecularGlossiness"});
+    if (sg && !find(json, {"pbrMetallicRoughness"})) {
       const JsonReader r(*sg, path + ".extensions.KHR_materials_pbrSpecularGlossiness", file_);
       double diffuse[4] = {1.0, 1.0, 1.0, 1.0};
       r.numbers("diffuseFactor", diffuse, 4);
@@ -142,7 +141,7 @@ void MaterialImporter::importAll() {
       m.emissive = glm::vec3(glm::make_vec3(gm.emissiveFactor.data()) * strength);
     m.emissiveTexture = importTexture(gm.emissiveTexture.index, where);
     m.emissiveTexCoord = gm.emissiveTexture.texCoord;
-    readTransform(find(doc_.json, {"materials", "emissiveTexture"}, i), path + ".emissiveTexture",
+    readTransform(find(json, {"emissiveTexture"}), path + ".emissiveTexture",
                   m.emissiveUv, m.emissiveTexCoord);
     if (!std::isfinite(m.baseColorFactor.x + m.baseColorFactor.y + m.baseColorFactor.z +
                        m.baseColorFactor.w + m.emissive.x + m.emissive.y + m.emissive.z))
