@@ -120,8 +120,11 @@ std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stac
 
 PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
     : context_(context),
-      pipeline_(context, gpu::ShaderId::shade_primary,
-                gpu::PipelineDesc{15, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+      pipeline_(
+          context, gpu::ShaderId::shade_primary,
+          gpu::PipelineDesc{15, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+      rays_(context, gpu::StagedBuffer::ToDevice),
+      shaded_(context, gpu::StagedBuffer::ToHost),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
               gpu::BufferKind::Upload),
       noRadiance_(context, 4, gpu::BufferKind::DeviceLocal),
@@ -138,28 +141,30 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
   const std::size_t rayBytes = rays.size() * sizeof(gpu_shared::TraceRay);
   const std::size_t outBytes = rays.size() * sizeof(gpu_shared::ShadedHit);
   // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
-  if (rays_.size() < rayBytes) rays_ = gpu::Buffer(context_, rayBytes, gpu::BufferKind::Upload);
-  if (shaded_.size() < outBytes)
-    shaded_ = gpu::Buffer(context_, outBytes, gpu::BufferKind::Readback);
-  std::memcpy(rays_.mapped(), rays.data(), rayBytes);
+  rays_.reserve(rayBytes);
+  shaded_.reserve(outBytes);
+  std::memcpy(rays_.host(), rays.data(), rayBytes);
   if (!lights.empty())
     std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
-  gpu_shared::ShadePushConstants pc = shadePushConstants(
-      settings, rays.size(), lights.size(), scene.cascadeCount(), sky, voxelSize0);
+  gpu_shared::ShadePushConstants pc = shadePushConstants(settings, rays.size(), lights.size(),
+                                                         scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
   std::vector<const gpu::Buffer*> bindings = {
-      &rays_,         &shaded_, &scene.pageTables(), &scene.distance(), &scene.albedo(),
-      &scene.emission(), &scene.params(), &lights_, lightRadiance ? lightRadiance : &noRadiance_};
+      &rays_.device(),   &shaded_.device(), &scene.pageTables(),
+      &scene.distance(), &scene.albedo(),   &scene.emission(),
+      &scene.params(),   &lights_,          lightRadiance ? lightRadiance : &noRadiance_};
   for (const gpu::Buffer* o :
        objects && objects->active() ? objects->buffers() : noObjects_.buffers())
     bindings.push_back(o);
   gpu::CommandBatch batch = context_.beginBatch();
+  rays_.recordCopy(batch, rayBytes);
   batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
                  shade_detail::spread(pc.counts.x));
+  shaded_.recordCopy(batch, outBytes);
   batch.submitAndWait();
   for (const auto& t : batch.timings()) milliseconds_ += t.milliseconds;
   std::vector<gpu_shared::ShadedHit> out(rays.size());
-  std::memcpy(out.data(), shaded_.mapped(), outBytes);
+  std::memcpy(out.data(), shaded_.host(), outBytes);
   return out;
 }
 
@@ -377,7 +382,8 @@ GiFrameStats GiRenderer::update(const CascadeStack& stack, std::span<const std::
     times_.probePasses = gi_->probes().lastTimings();
   } else {
     scene_->sync(stack, dirty);
-    times_.gi = light_ || instances_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
+    times_.gi =
+        light_ || instances_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
   }
   return times_.gi;
 }

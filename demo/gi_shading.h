@@ -32,6 +32,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
+#include "gpu/staged_buffer.h"
 #include "shaders/shared/shade_layout.h"
 #include "streaming/cascade.h"
 #include "streaming/cascade_stack.h"
@@ -83,7 +84,8 @@ class PrimaryShadePass {
  private:
   gpu::Context& context_;
   gpu::ComputePipeline pipeline_;
-  gpu::Buffer rays_, shaded_, lights_, noRadiance_;
+  gpu::StagedBuffer rays_, shaded_;  // device-local for the pass (gpu/staged_buffer.h)
+  gpu::Buffer lights_, noRadiance_;
   NoObjectsBindings noObjects_;  // bound at 9-14 when there are no objects
   double milliseconds_ = 0.0;
 };

@@ -19,10 +19,12 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
                                          settings.hitEpsilon, scene_.cascadeCount(),
                                          settings.firstCascade};
   gpu::CommandBatch batch = context_.beginBatch();
+  batch_.recordUpload(batch);
   batch.dispatch("trace_stack", pipeline_,
                  {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.distance(),
                   &scene_.albedo(), &scene_.emission(), &scene_.params()},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
+  batch_.recordReadback(batch);
   batch.submitAndWait();
   timings_ = batch.timings();
   return batch_.readHits();

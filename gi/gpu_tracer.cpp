@@ -42,9 +42,11 @@ std::vector<gpu_shared::TraceHit> GpuTracer::trace(std::span<const gpu_shared::T
   pc.hitEpsilon = settings.hitEpsilon;
 
   gpu::CommandBatch batch = context_.beginBatch();
+  batch_.recordUpload(batch);
   batch.dispatch("trace", pipeline_,
                  {&batch_.rays(), &batch_.hits(), &pageTable_, &distanceAtlas_, &albedoAtlas_, &emissionAtlas_},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
+  batch_.recordReadback(batch);
   batch.submitAndWait();
   timings_ = batch.timings();
   return batch_.readHits();

@@ -10,7 +10,8 @@ constexpr std::uint32_t kBindings = 28;  // 22 probe + 6 object (probe_bindings.
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
-  return gpu::ComputePipeline(ctx, id, gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
+  return gpu::ComputePipeline(ctx, id,
+                              gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
 }
 
 gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
@@ -51,11 +52,14 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       list_(deviceBuffer(context, std::size_t(settings.listCapacity(cascades)) * 4)),
       statsBuffer_(deviceBuffer(context, gpu_shared::kProbeStatCount * 4)),
       pageChanged_(deviceBuffer(context, std::size_t(cascades) * 128 * 4)),
-      queries_(context, sizeof(gpu_shared::ProbeQuery), gpu::BufferKind::Upload),
-      results_(context, 16, gpu::BufferKind::Readback),
+      queries_(context, gpu::StagedBuffer::ToDevice),
+      results_(context, gpu::StagedBuffer::ToHost),
       dispatchArgs_(deviceBuffer(context, 9 * 4)),
       rayDirs_(deviceBuffer(context, sizes_.rays * 16)),
       noObjects_(context) {
+  // Bound by every pass, so they exist before the first sample().
+  queries_.reserve(sizeof(gpu_shared::ProbeQuery));
+  results_.reserve(sizeof(glm::vec4));
   reset();
 }
 
@@ -69,13 +73,30 @@ void ProbeField::reset() {
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                                      const gpu::Buffer& light) {
-  std::vector<const gpu::Buffer*> b = {
-      &frame_,          &volumes_,         &data_,         &history_,          &irradiance_,
-      &depth_,          &rays_,            &cache_,        &rotations_,        &list_,
-      &statsBuffer_,    &pageChanged_,     &scene.pageTables(), &scene.distance(), &scene.albedo(),
-      &scene.emission(), &scene.params(),  &light,         &queries_,          &results_,
-      &dispatchArgs_,   &rayDirs_};
-  for (const gpu::Buffer* o : objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
+  std::vector<const gpu::Buffer*> b = {&frame_,
+                                       &volumes_,
+                                       &data_,
+                                       &history_,
+                                       &irradiance_,
+                                       &depth_,
+                                       &rays_,
+                                       &cache_,
+                                       &rotations_,
+                                       &list_,
+                                       &statsBuffer_,
+                                       &pageChanged_,
+                                       &scene.pageTables(),
+                                       &scene.distance(),
+                                       &scene.albedo(),
+                                       &scene.emission(),
+                                       &scene.params(),
+                                       &light,
+                                       &queries_.device(),
+                                       &results_.device(),
+                                       &dispatchArgs_,
+                                       &rayDirs_};
+  for (const gpu::Buffer* o :
+       objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
     b.push_back(o);
   return b;
 }
@@ -99,8 +120,9 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   if (objects_ && objects_->active()) {
-    lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjects |
-                                      (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
+    lastFrame_.constants.options.x |=
+        gpu_shared::kProbeOptionObjects |
+        (objects_->cascadeMask() << gpu_shared::kProbeObjectMaskShift);
     if (objects_->settings().naiveTraversal)
       lastFrame_.constants.options.x |= gpu_shared::kProbeOptionObjectsNaive;
   }
@@ -109,7 +131,8 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   staging.upload(batch, rotations_, std::span(std::as_const(lastFrame_.rotations)));
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
   while (statsReadback_.size() < staging.framesInFlight())
-    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4, gpu::BufferKind::Readback);
+    statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4,
+                                gpu::BufferKind::Readback);
 
   const std::vector<const gpu::Buffer*> b = bindings(scene, light);
   const std::uint32_t probes = std::uint32_t(sizes_.probes);
@@ -152,19 +175,21 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   if (queries.empty()) return {};
   const std::size_t qBytes = queries.size() * sizeof(gpu_shared::ProbeQuery);
   const std::size_t rBytes = queries.size() * sizeof(glm::vec4);
-  if (queries_.size() < qBytes) queries_ = gpu::Buffer(context_, qBytes, gpu::BufferKind::Upload);
-  if (results_.size() < rBytes) results_ = gpu::Buffer(context_, rBytes, gpu::BufferKind::Readback);
+  queries_.reserve(qBytes);
+  results_.reserve(rBytes);
   // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
-  std::memcpy(queries_.mapped(), queries.data(), qBytes);
+  std::memcpy(queries_.host(), queries.data(), qBytes);
   ProbePushConstants pc{};
   pc.dispatch = glm::uvec4(0u, std::uint32_t(queries.size()), 0u, 0u);
   gpu::CommandBatch batch = context_.beginBatch();
+  queries_.recordCopy(batch, qBytes);
   batch.dispatch("probe_sample", sample_, bindings(scene, light), &pc, sizeof pc,
                  spread(pc.dispatch.y));
+  results_.recordCopy(batch, rBytes);
   batch.submitAndWait();
   timings_ = batch.timings();
   std::vector<glm::vec3> out(queries.size());
-  const auto* r = static_cast<const glm::vec4*>(results_.mapped());
+  const auto* r = static_cast<const glm::vec4*>(results_.host());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
   return out;
 }

@@ -20,6 +20,7 @@
 #include "gpu/command_batch.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
+#include "gpu/staged_buffer.h"
 #include "gpu/staging_ring.h"
 
 namespace sdfstream {
@@ -99,7 +100,7 @@ class ProbeField {
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;
-  gpu::Buffer queries_, results_;
+  gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)
   gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   const ObjectScene* objects_ = nullptr;
