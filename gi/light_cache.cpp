@@ -68,14 +68,14 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const gpu_shared::LightCachePushConstants pc =
       lightCachePushConstants(settings_, std::uint32_t(dirtyPages.size()),
                               std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
-  // x: the 512 cells of a page (8 groups), y: the listed pages (at most 8 × 4096 < 65535).
+  // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512 cells.
   std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
                                           &scene.pageTables(), &scene.distance(), &scene.albedo(),
                                           &scene.emission(),   &scene.params()};
   for (const gpu::Buffer* o : objects && objects->active() ? objects->buffers() : noObjects_.buffers())
     bufs.push_back(o);
   batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
-                 glm::uvec3(gpu_shared::kBrickMaterialCount, std::uint32_t(dirtyPages.size()), 1));
+                 glm::uvec3(64, std::uint32_t(dirtyPages.size()), 1));
 }
 
 std::vector<std::uint32_t> LightCache::downloadRadiance() const {

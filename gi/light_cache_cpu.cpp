@@ -93,7 +93,7 @@ LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::
   const light_detail::LightCacheShader::SdfSample smp = sh.sdfSampleCascade(centre, cp.toroidal);
   out.resident = smp.resident;
   out.distance = smp.distance;
-  out.inBand = smp.resident && std::abs(smp.distance) <= sh.kLightSurfaceBand;
+  out.inBand = sh.lightSampleIsSurface(smp);
   if (!out.inBand) return out;
   out.normal = sh.sdfNormal(centre, cp.toroidal);
   const glm::vec3 surface = centre - out.normal * smp.distance;

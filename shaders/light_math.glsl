@@ -259,6 +259,16 @@ vec3 lightCellCentre(ivec3 page, uint cell) {
   return vec3(page) * 8.0f + local + vec3(0.5f);
 }
 
+// A cell whose centre sample is resident and within kLightSurfaceBand of the surface: the cells
+// lightCacheCellRadiance lights; every other cell holds its emission only.
+bool lightSampleIsSurface(SdfSample s) {
+  return s.resident && abs(s.distance) <= kLightSurfaceBand;
+}
+
+bool lightCellIsSurface(uint cascade, ivec3 page, uint cell) {
+  return lightSampleIsSurface(sdfSampleCascade(lightCellCentre(page, cell), SDF_CASCADE(cascade).toroidal));
+}
+
 #ifdef LIGHT_AT
 // Outgoing Lambertian radiance of material cell `cell` of the resident page `page` of cascade
 // `cascade` held in atlas slot `slot`: emission + albedo/π · Σ lightIrradiance, the lights
@@ -274,7 +284,7 @@ vec3 lightCacheCellRadiance(uint cascade, ivec3 page, uint slot, uint cell, uint
   CascadeTraceParams cp = SDF_CASCADE(cascade);
   vec3 centre = lightCellCentre(page, cell);
   SdfSample s = sdfSampleCascade(centre, cp.toroidal);
-  if (!s.resident || abs(s.distance) > kLightSurfaceBand) return emission;
+  if (!lightSampleIsSurface(s)) return emission;
   vec3 n = sdfNormal(centre, cp.toroidal);
   SDF_PRECISE vec3 p = centre - n * s.distance;
   SDF_PRECISE vec3 p0 = vec3(cp.offsetScale) + p * cp.offsetScale.w;
