@@ -148,7 +148,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
   const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
   const ProbePushConstants interior =
-      push(gpu_shared::kProbeBlendModeInterior, capacity * gpu_shared::kProbeBlendTexelsPerProbe);
+      push(gpu_shared::kProbeBlendModeInterior, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
   const ProbePushConstants border =
       push(gpu_shared::kProbeBlendModeBorder, capacity * gpu_shared::kProbeTileTexelsPerProbe);
 

@@ -64,6 +64,7 @@ struct FieldPasses {
 #undef PROBE_DEPTH
 #undef PROBE_RAY
 #undef PROBE_RAY_DIR
+#undef PROBE_RAY_STORED
 #undef PROBE_DISPATCH_ARGS
 #undef PROBE_VOLUME
 #undef PROBE_DATA

@@ -3,36 +3,84 @@
 // copies. Reads and writes PROBE_LIST(l), PROBE_VOLUME(c), PROBE_DATA(g), PROBE_HISTORY(g),
 // PROBE_RAY(i), PROBE_IRRADIANCE(i), PROBE_DEPTH(i) (as listed by the classify and trace files).
 
-// Blend pass body (interior texels): `local` < 36 irradiance texel, else depth texel.
-void probeBlendPass(ProbeFrame f, uint l, uint local) {
+// One interior texel of a listed probe's blend: which atlas texel, its hysteresis and the
+// per-probe options (probeBlendTexelOf). The sums are accumulated in ray order by
+// probeBlendAccumulate, over all rays at once (the CPU) or chunk by chunk (probe_blend.comp),
+// then probeBlendFinish writes the texel.
+struct ProbeBlendTexel {
+  bool irradiance;  // else depth
+  uvec2 texel;      // interior coordinates
+  uint index;       // PROBE_IRRADIANCE / PROBE_DEPTH index
+  float h;          // hysteresis
+  float shape;      // irradiance: the encoding's gamma; depth: the weight's sharpness
+  uint rayBase;     // this probe's first ray: list position x rays per probe
+  uint n;           // rays per probe
+};
+
+// Texel `local` (< 36 irradiance, else depth) of the probe at list position l.
+ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
   uint g = PROBE_LIST(l);
   ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
-  uint n = v.countsRays.w;
   bool vigilant = probeStateOf(PROBE_DATA(g)) == kProbeVigilant;
-  bool adaptive = (f.options.x & kProbeOptionAdaptiveHysteresis) != 0u;
   const uint irrCount = kProbeIrradianceInterior * kProbeIrradianceInterior;
-  if (local == 0u && (f.options.x & kProbeOptionStates) != 0u) {
-    // M21 Sec. 5: a probe with more than a quarter of its rays on backfaces is inside geometry.
-    uint backfaces = 0u;
-    for (uint r = 0u; r < n; ++r) backfaces += PROBE_RAY(l * n + r).w < 0.0f ? 1u : 0u;
-    uvec4 hist = PROBE_HISTORY(g);
-    bool inside = 4u * backfaces > n;
-    PROBE_HISTORY(g) = uvec4(hist.x, hist.y, hist.z, (hist.w & 0x7fffffffu) | (inside ? 0x80000000u : 0u));
-  }
-  if (local < irrCount) {
-    uvec2 texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
-    uint i = probeIrradianceIndex(g, texel + uvec2(kProbeBorderTexels));
-    float h = vigilant ? min(v.blend.x, f.view.w) : v.blend.x;
-    PROBE_IRRADIANCE(i) =
-        probeBlendIrradianceTexel(l * n, n, texel, PROBE_IRRADIANCE(i), h, v.blend.w, adaptive,
-                                  (f.options.x & kProbeOptionBackfacesBlack) != 0u);
+  ProbeBlendTexel t;
+  t.irradiance = local < irrCount;
+  t.n = v.countsRays.w;
+  t.rayBase = l * t.n;
+  if (t.irradiance) {
+    t.texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
+    t.index = probeIrradianceIndex(g, t.texel + uvec2(kProbeBorderTexels));
+    t.h = vigilant ? min(v.blend.x, f.view.w) : v.blend.x;
+    t.shape = v.blend.w;
   } else {
     uint d = local - irrCount;
-    uvec2 texel = uvec2(d % kProbeDepthInterior, d / kProbeDepthInterior);
-    uint i = probeDepthIndex(g, texel + uvec2(kProbeBorderTexels));
-    float h = vigilant ? min(v.blend.y, f.view.w) : v.blend.y;
-    PROBE_DEPTH(i) = probeBlendDepthTexel(l * n, n, texel, PROBE_DEPTH(i), h, v.visibility.y);
+    t.texel = uvec2(d % kProbeDepthInterior, d / kProbeDepthInterior);
+    t.index = probeDepthIndex(g, t.texel + uvec2(kProbeBorderTexels));
+    t.h = vigilant ? min(v.blend.y, f.view.w) : v.blend.y;
+    t.shape = v.visibility.y;
   }
+  return t;
+}
+
+// Adds rays [first, first + count) (PROBE_RAY indices) of the texel's probe to its sums:
+// irradiance (rgb·w, w), depth (w d, w d², w, 0).
+vec4 probeBlendAccumulate(ProbeFrame f, ProbeBlendTexel t, uint first, uint count, vec4 sums) {
+  if (t.irradiance)
+    return probeIrradianceTexelSums(first, count, t.texel,
+                                    (f.options.x & kProbeOptionBackfacesBlack) != 0u, sums);
+  return vec4(probeDepthTexelSums(first, count, t.texel, t.shape, vec3(sums)), 0.0f);
+}
+
+// Writes the texel's new stored value from the sums of all its probe's rays.
+void probeBlendFinish(ProbeFrame f, ProbeBlendTexel t, vec4 sums) {
+  if (t.irradiance) {
+    PROBE_IRRADIANCE(t.index) =
+        probeFinishIrradianceTexel(sums, PROBE_IRRADIANCE(t.index), t.h, t.shape,
+                                   (f.options.x & kProbeOptionAdaptiveHysteresis) != 0u);
+  } else {
+    PROBE_DEPTH(t.index) = probeFinishDepthTexel(vec3(sums), PROBE_DEPTH(t.index), t.h);
+  }
+}
+
+// M21 Sec. 5: a probe with more than a quarter of its rays on backfaces is inside geometry
+// (with states on; once per probe, before its texels). Reads the rays from PROBE_RAY_STORED.
+void probeBlendStates(ProbeFrame f, uint l) {
+  if ((f.options.x & kProbeOptionStates) == 0u) return;
+  uint g = PROBE_LIST(l);
+  uint n = PROBE_VOLUME(g / f.counts.y).countsRays.w;
+  uint backfaces = 0u;
+  for (uint r = 0u; r < n; ++r) backfaces += PROBE_RAY_STORED(l * n + r).w < 0.0f ? 1u : 0u;
+  uvec4 hist = PROBE_HISTORY(g);
+  bool inside = 4u * backfaces > n;
+  PROBE_HISTORY(g) = uvec4(hist.x, hist.y, hist.z, (hist.w & 0x7fffffffu) | (inside ? 0x80000000u : 0u));
+}
+
+// Blend pass body (interior texels) with every ray at once: `local` < 36 irradiance texel, else
+// depth texel (the CPU reference; probe_blend.comp stages the same sums through shared memory).
+void probeBlendPass(ProbeFrame f, uint l, uint local) {
+  if (local == 0u) probeBlendStates(f, l);
+  ProbeBlendTexel t = probeBlendTexelOf(f, l, local);
+  probeBlendFinish(f, t, probeBlendAccumulate(f, t, t.rayBase, t.n, vec4(0.0f)));
 }
 
 // Border pass body: tile texel `local` (< 64 irradiance, else depth) copies its source.

@@ -17,8 +17,13 @@
 #include "shaders/light_math.glsl"
 #define PROBE_IRRADIANCE(i) irradiance[i]
 #define PROBE_DEPTH(i) depth[i]
+// A pass may read the blend's rays from elsewhere (probe_blend.comp: shared memory) by defining
+// PROBE_RAY and PROBE_RAY_DIR first; PROBE_RAY_STORED is always the ray buffer.
+#ifndef PROBE_RAY
 #define PROBE_RAY(i) rays[i]
 #define PROBE_RAY_DIR(i) rayDirs[i]
+#endif
+#define PROBE_RAY_STORED(i) rays[i]
 #include "shaders/probe_update.glsl"
 #define PROBE_VOLUME(c) volumes[c]
 #define PROBE_DATA(g) probeData[g]

@@ -65,17 +65,15 @@ vec3 probeSrgbToLinear(vec3 c) {
 
 
 #ifdef PROBE_RAY
-// New stored value of interior irradiance texel `texel` (0..5 per axis) of a probe whose rays
-// of this update are PROBE_RAY(rayBase + r), r < n, in directions PROBE_RAY_DIR(rayBase + r)
-// (written by the trace pass, so the blend does no trigonometry):
-// cosine-weighted mean (probeIrradianceFromSums), encoded with gamma, blended with the old stored
-// value in encoded space with hysteresis h (M21 Eq. 1, Sec. 4.2); h = 0 for a texel never
-// written; the per-texel change heuristic lowers h when asked (M21 Sec. 4.3). No weighted ray:
-// unchanged.
-vec4 probeBlendIrradianceTexel(uint rayBase, uint n, uvec2 texel, vec4 oldStored, float h,
-                               float gamma, bool adaptive, bool backfacesBlack) {
+// The blend of one update's rays into interior texels, in two steps so a pass may stage the rays
+// in chunks (probe_blend.comp keeps them in shared memory): the sums over rays
+// PROBE_RAY(rayBase + r), r < n, in directions PROBE_RAY_DIR(rayBase + r) (written by the trace
+// pass, so the blend does no trigonometry), accumulated onto `sums` in ray order, then the new
+// stored value from the sums of all the probe's rays.
+
+// Irradiance texel `texel` (0..5 per axis): (rgb·w, w) of the cosine-weighted mean.
+vec4 probeIrradianceTexelSums(uint rayBase, uint n, uvec2 texel, bool backfacesBlack, vec4 sums) {
   vec3 texelDir = probeTexelDirection(texel, kProbeIrradianceInterior);
-  vec4 sums = vec4(0.0f);
   for (uint r = 0u; r < n; ++r) {
     vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
     if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the reads
@@ -85,6 +83,14 @@ vec4 probeBlendIrradianceTexel(uint rayBase, uint n, uvec2 texel, vec4 oldStored
     float w = probeIrradianceWeight(texelDir, rayDir);
     sums += vec4(vec3(result) * w, w);
   }
+  return sums;
+}
+
+// New stored irradiance from the sums: the mean (probeIrradianceFromSums), encoded with gamma,
+// blended with the old stored value in encoded space with hysteresis h (M21 Eq. 1, Sec. 4.2);
+// h = 0 for a texel never written; the per-texel change heuristic lowers h when asked (M21
+// Sec. 4.3). No weighted ray: unchanged.
+vec4 probeFinishIrradianceTexel(vec4 sums, vec4 oldStored, float h, float gamma, bool adaptive) {
   if (sums.w <= 0.0f) return oldStored;
   vec3 fresh = probeEncodeIrradiance(probeIrradianceFromSums(sums), gamma);
   vec3 old = vec3(oldStored);
@@ -93,13 +99,9 @@ vec4 probeBlendIrradianceTexel(uint rayBase, uint n, uvec2 texel, vec4 oldStored
   return vec4(probeHysteresisBlend3(old, fresh, hh), 1.0f);
 }
 
-// New stored (mean, mean²) of interior depth texel `texel` (0..13 per axis): power-cosine
-// weighted moments of the ray depths, blended with hysteresis h; a texel never written (0, 0)
-// takes the fresh moments (every written texel has a positive mean: depths are > 0).
-vec2 probeBlendDepthTexel(uint rayBase, uint n, uvec2 texel, vec2 oldStored, float h,
-                          float sharpness) {
+// Depth texel `texel` (0..13 per axis): (w d, w d², w) of the power-cosine weighted moments.
+vec3 probeDepthTexelSums(uint rayBase, uint n, uvec2 texel, float sharpness, vec3 sums) {
   vec3 texelDir = probeTexelDirection(texel, kProbeDepthInterior);
-  vec3 sums = vec3(0.0f);  // w d, w d², w
   for (uint r = 0u; r < n; ++r) {
     vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
     if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the pow
@@ -107,6 +109,12 @@ vec2 probeBlendDepthTexel(uint rayBase, uint n, uvec2 texel, vec2 oldStored, flo
     float w = probeDepthWeight(texelDir, rayDir, sharpness);
     sums += vec3(w * d, w * d * d, w);
   }
+  return sums;
+}
+
+// New stored (mean, mean²), blended with hysteresis h; a texel never written (0, 0) takes the
+// fresh moments (every written texel has a positive mean: depths are > 0).
+vec2 probeFinishDepthTexel(vec3 sums, vec2 oldStored, float h) {
   if (sums.z <= 0.0f) return oldStored;
   vec2 mean = vec2(sums.x / sums.z, sums.y / sums.z);
   bool fresh = oldStored.x == 0.0f && oldStored.y == 0.0f;

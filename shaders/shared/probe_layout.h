@@ -116,6 +116,7 @@ SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probe
 SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
 SDF_CONST uint kProbeBlendTexelsPerProbe = 232u;  // 6² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 320u;   // 8² irradiance + 16² depth tile texels
+SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
 
 struct ProbePushConstants {
   uvec4 dispatch;  // x: mode, y: threads of this dispatch, zw unused
