@@ -283,6 +283,15 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
   rep.width = opt.width;
   rep.height = opt.height;
 
+  if (opt.gpuTable && !points.cameras.empty()) {
+    const StreamedStack& st = stacks.begin()->second;
+    const PrimaryTraceTiming t = primaryTraceTiming(ctx, points.cameras.front(), *st.stack,
+                                                    st.allSlots, opt.width, opt.height, 8);
+    rep.primaryRays = t.rays;
+    rep.primaryHits = t.hits;
+    rep.primaryTraceMs = t.milliseconds;
+  }
+
   SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}};
   addQueries(sc, stacks.begin()->second.stack->stackImage(), scene->voxelSize);
   runConfigs(sc, run, sceneDir, rep);

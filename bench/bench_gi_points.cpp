@@ -1,5 +1,6 @@
 #include "bench/bench_gi_points.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "demo/frame_image.h"
@@ -71,6 +72,37 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
   pc.forward = scene.viewDirection;
   v.cameras.push_back(pc);
   return v;
+}
+
+PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const reference::PinholeCamera& view,
+                                      const CascadeStack& stack,
+                                      std::span<const std::uint32_t> slots, int width, int height,
+                                      int repeats) {
+  GpuStackTracer tracer(ctx, stack);
+  tracer.sync(stack, slots);
+  const CascadeStackImage img = stack.stackImage();
+  Camera cam;
+  cam.position = glm::dvec3(view.position);
+  cam.target = cam.position + glm::dvec3(view.forward);
+  cam.up = glm::dvec3(view.up);
+  cam.fovYDegrees = view.verticalFovDegrees;
+  const auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
+  PrimaryTraceTiming t;
+  t.rays = rays.size();
+  std::vector<double> ms;
+  for (int i = 0; i <= repeats; ++i) {
+    const auto hits = tracer.trace(rays, TraceSettings{});
+    if (i == 0) {  // the warm-up also counts the hits
+      for (const auto& h : hits) t.hits += (h.flags & gpu_shared::kHitFlagHit) ? 1 : 0;
+      continue;
+    }
+    ms.push_back(tracer.lastMilliseconds("trace_stack"));
+  }
+  if (!ms.empty()) {
+    std::nth_element(ms.begin(), ms.begin() + std::ptrdiff_t(ms.size() / 2), ms.end());
+    t.milliseconds = ms[ms.size() / 2];
+  }
+  return t;
 }
 
 std::vector<glm::vec3> shadedImage(const ViewPoints& v, std::size_t k,

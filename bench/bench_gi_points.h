@@ -45,6 +45,18 @@ ViewPoints visiblePoints(const BenchScene& scene, const reference::PathTracer& t
 ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const CascadeStack& stack,
                             std::span<const std::uint32_t> slots, int width, int height);
 
+// Primary-ray SDF traversal alone (trace_stack.comp, no shading) for one view at width × height:
+// the GPU time of the pass (median of `repeats` dispatches after one warm-up) and how many rays
+// hit. The real-GPU table reports it as rays per second, the traversal's own throughput.
+struct PrimaryTraceTiming {
+  std::size_t rays = 0, hits = 0;
+  double milliseconds = 0.0;  // 0: the device has no timestamps
+};
+PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const reference::PinholeCamera& view,
+                                      const CascadeStack& stack,
+                                      std::span<const std::uint32_t> slots, int width, int height,
+                                      int repeats);
+
 // albedo/π·E per pixel of view `k` (black where the view sees the sky); e: one per point.
 std::vector<glm::vec3> shadedImage(const ViewPoints& v, std::size_t k,
                                    std::span<const glm::vec3> e);

@@ -62,6 +62,9 @@ struct SceneReport {
   std::size_t peerRays = 0;
   std::string peerRaySet;
   std::string diagnosis;  // markdown (--diagnose): bench/bench_gi_diagnose.h
+  // --gpu-table: primary-ray SDF traversal alone over the first view (trace_stack.comp).
+  std::size_t primaryRays = 0, primaryHits = 0;
+  double primaryTraceMs = 0.0;
   double seconds = 0.0;
 };
 

@@ -76,6 +76,7 @@ struct FieldPasses {
 #undef PROBE_LIST
 #undef PROBE_STAT
 #undef PROBE_STAT_ADD
+#undef PROBE_STAT_COUNT
 };
 }  // namespace field_detail
 

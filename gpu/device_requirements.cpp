@@ -84,6 +84,19 @@ std::vector<std::string> missingRequirements(VkPhysicalDevice device,
     missing.push_back(
         "VkPhysicalDeviceVulkan12Features::timelineSemaphore (supported but not enabled)");
   if (findComputeFamily(device, nullptr) == UINT32_MAX) missing.push_back("a compute queue");
+  // The probe passes add their per-ray counters per subgroup (shaders/probe_bindings.glsl).
+  // Core properties, nothing to enable: every Vulkan 1.1 driver reports them.
+  if (props.apiVersion >= VK_API_VERSION_1_1) {
+    VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &sub;
+    vkGetPhysicalDeviceProperties2(device, &p2);
+    const VkSubgroupFeatureFlags ops =
+        VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+    if (!(sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+        (sub.supportedOperations & ops) != ops)
+      missing.push_back("basic and arithmetic subgroup operations in compute shaders");
+  }
   return missing;
 }
 

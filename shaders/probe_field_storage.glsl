@@ -35,6 +35,11 @@
 #define PROBE_LIST(i) updateList[i]
 #define PROBE_STAT(i) stats[i]
 #define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)
+// A frame counter nobody reads back within the pass, at an index uniform over the invocations
+// that reach the call: a pass may aggregate it (probe_bindings.glsl adds per subgroup first).
+#ifndef PROBE_STAT_COUNT
+#define PROBE_STAT_COUNT(i, v) PROBE_STAT_ADD(i, v)
+#endif
 #define PROBE_DISPATCH_ARGS(i) dispatchArgs[i]
 #include "shaders/probe_field.glsl"
 #include "shaders/probe_sample.glsl"

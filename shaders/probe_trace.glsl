@@ -2,7 +2,7 @@
 // probe ray -- hit cache or a fresh trace through the stack -- and its radiance and depth (M21
 // Sec. 2.3, 4.1; GS "Caching rays"), multi-bounce through shaders/probe_sample.glsl. Reads and
 // writes
-//   PROBE_LIST(l), PROBE_VOLUME(c), PROBE_DATA(g), PROBE_CACHE(i), PROBE_STAT_ADD(i, v)
+//   PROBE_LIST(l), PROBE_VOLUME(c), PROBE_DATA(g), PROBE_CACHE(i), PROBE_STAT_COUNT(i, v)
 //   PROBE_RAY(i), PROBE_RAY_DIR(i) -> vec4 ray result / direction i (list position x rays + ray)
 //   LIGHT_RADIANCE(m)        -> uint RGB9E5 light-cache radiance of material voxel m
 //   SDF_CASCADE(c), SDF_PAGE(i), SDF_ALBEDO(i) and the stack traversal of shaders/sdf_trace.glsl
@@ -129,11 +129,11 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
     }
   }
   if (cached) {
-    PROBE_STAT_ADD(kProbeStatRaysCached, 1u);
+    PROBE_STAT_COUNT(kProbeStatRaysCached, 1u);
   } else {
     h = probeTraceFresh(f, c, o, dir);
-    PROBE_STAT_ADD(kProbeStatRaysTraced, 1u);
-    PROBE_STAT_ADD(kProbeStatSteps, h.steps);
+    PROBE_STAT_COUNT(kProbeStatRaysTraced, 1u);
+    PROBE_STAT_COUNT(kProbeStatSteps, h.steps);
     if (useCache)
       PROBE_CACHE(entry) = h.cacheable ? probeCacheEncode(h.hit, h.t0, h.cascade, h.normal) : uvec2(0u);
   }
@@ -147,10 +147,10 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
     ObjectHit oh = (f.options.x & kProbeOptionObjectsNaive) != 0u
                        ? objTraceAll(o, dir, 0.0f, tObjects)
                        : objTraceRegions(o, dir, 0.0f, tObjects, c);
-    PROBE_STAT_ADD(kProbeStatObjectRays, 1u);
-    PROBE_STAT_ADD(kProbeStatObjectSteps, oh.steps);
+    PROBE_STAT_COUNT(kProbeStatObjectRays, 1u);
+    PROBE_STAT_COUNT(kProbeStatObjectSteps, oh.steps);
     if (oh.t >= 0.0f) {
-      PROBE_STAT_ADD(kProbeStatObjectHits, 1u);
+      PROBE_STAT_COUNT(kProbeStatObjectHits, 1u);
       shaded = probeShadeObjectHit(f, v, o, dir, oh);
     } else {
       shaded = probeShadeRay(f, v, o, dir, h);

@@ -95,13 +95,17 @@ TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
   const std::string world = (dir / "world").string();
   const std::string args = " --frames 4 --width 32 --height 24 --no-pacing --objects 0 "
                            "--atlas-mib 32 --probe-budget 4096";
-  // What the run needs with the whole atlas: the progress line's live GPU buffers.
+  // What the run needs with the whole atlas: the peak of the progress lines' live GPU buffers
+  // (passes that keep device-local copies of their inputs allocate them on first use, after the
+  // atlas is reserved, so the first line can be below the peak).
   test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
                                                          (dir / "full").string() + args);
   ASSERT_EQ(full.exitCode, 0) << full.err;
-  const std::size_t at = full.err.find("GPU buffers ");
-  ASSERT_NE(at, std::string::npos) << full.err;
-  const double needed = std::stod(full.err.substr(at + 12));
+  double needed = 0.0;
+  for (std::size_t at = full.err.find("GPU buffers "); at != std::string::npos;
+       at = full.err.find("GPU buffers ", at + 1))
+    needed = std::max(needed, std::stod(full.err.substr(at + 12)));
+  ASSERT_GT(needed, 0.0) << full.err;
   // 20 MiB short: the 32 MiB atlas does not fit, a quarter of it does.
   const std::string budget = std::to_string(int(needed) - 20);
   test::CliResult lean = test::runCli(
