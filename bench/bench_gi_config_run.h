@@ -67,6 +67,11 @@ class ConfigRun {
     return gi_.update(*st_.stack, dirty, lights_, in_, frame_++);
   }
 
+  // Relights every resident page `repeats` times (a new light version each frame) after the
+  // run has settled: the median light-cache time of a warm full relight. The first frame's
+  // relight also pays the first upload's cold caches.
+  double measureRelightMs(int repeats);
+
   // The measured frames: medians of the pass times and work, and device memory, into r. Returns
   // the last frame's irradiance at every point.
   std::vector<glm::vec3> measure(ConfigResult& r);

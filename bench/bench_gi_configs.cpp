@@ -79,6 +79,10 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     add(prefix + "vis-chebyshev", "ours", "visibility chebyshev", s, cascades, !quick);
     s.visibility = ProbeFieldSettings::Visibility::Sdf;
     add(prefix + "vis-sdf", "ours", "visibility sdf", s, cascades, !quick);
+    s = base;
+    s.sdfVisibilityWhereUnsure = false;
+    add(prefix + "vis-sdf-everywhere", "ours", "Chebyshev + the SDF test at every cage corner", s,
+        cascades, !quick);
     // M21's perceptual encoding blends irradiance^(1/5): for estimates that vary from frame to
     // frame (a few rays seeing a bright patch) that mean is far below the mean of the values.
     s = base;
@@ -128,9 +132,13 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
   // SDFDDGI's Sponza grid is 22 x 14 x 32 = 9,856 probes; our grids are 17³ per cascade at one
   // probe per brick, so 2 cascades (9,826 probes) is the nearest count we can run.
   const ProbeFieldSettings def;
+  ProbeFieldSettings everywhere = def;
+  everywhere.sdfVisibilityWhereUnsure = false;
   return {
       {"sdfddgi-probe-count", "ours", "2 cascades x 17³ = 9,826 probes", def, 2, false, "default"},
       {"default", "ours", "", def, scene.defaultCascades, false, ""},
+      {"vis-sdf-everywhere", "ours", "the SDF test at every cage corner", everywhere,
+       scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
 }
 

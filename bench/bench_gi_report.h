@@ -28,6 +28,7 @@ struct ConfigResult {
   double frameBestMs = 0.0, frameWorstMs = 0.0;  // fastest / slowest measured frame
   double sampleNsPerQuery = 0.0;
   double lightRelightMs = 0.0;  // light cache relighting every resident page (light change)
+  double lightRelightWarmMs = 0.0;  // --gpu-table: median of forced relights after the measure
   std::map<std::string, double> passMs;  // per probe pass
   // Work per frame (medians).
   double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;

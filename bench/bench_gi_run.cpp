@@ -284,6 +284,17 @@ void ConfigRun::measureConvergence(ConfigResult& r) {
   }
 }
 
+double ConfigRun::measureRelightMs(int repeats) {
+  std::vector<double> ms;
+  for (int i = 0; i < repeats; ++i) {
+    ++lights_.version;
+    ms.push_back(step().lightMilliseconds);
+  }
+  if (ms.empty()) return 0.0;
+  std::nth_element(ms.begin(), ms.begin() + std::ptrdiff_t(ms.size() / 2), ms.end());
+  return ms[ms.size() / 2];
+}
+
 ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::vec3>* keep,
                        const RunReports& into) {
   const auto start = Clock::now();
@@ -295,6 +306,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   for (int i = 1; i < opt.warmup; ++i) run.step();
   const std::vector<glm::vec3> e = run.measure(r);
   if (!sc.points.reference.empty()) score(sc.points, e, r);
+  if (opt.gpuTable) r.lightRelightWarmMs = run.measureRelightMs(5);
   if (keep) *keep = e;
   if (into.peers && sc.scene.triangles) run.runPeersOnProbeRays(*into.peers);
   if (into.diagnosis && sc.scene.triangles) run.diagnoseRays(*into.diagnosis);

@@ -106,6 +106,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.visibility != ProbeFieldSettings::Visibility::Chebyshev)
     options |= gpu_shared::kProbeOptionSdfVisibility;
   if (s.visibility == ProbeFieldSettings::Visibility::Sdf) options |= gpu_shared::kProbeOptionNoChebyshev;
+  if (!s.sdfVisibilityWhereUnsure) options |= gpu_shared::kProbeOptionSdfEverywhere;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
   if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
   if (s.backfacesBlack) options |= gpu_shared::kProbeOptionBackfacesBlack;

@@ -70,6 +70,9 @@ struct ProbeFieldSettings {
   float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
   enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };
   Visibility visibility = Visibility::ChebyshevAndSdf;  // sampling's visibility test
+  // With ChebyshevAndSdf: trace the SDF only for the cage corners whose depth moments leave the
+  // answer open (probe_sample.glsl, probeSdfVisibilityUnsure); false traces every corner.
+  bool sdfVisibilityWhereUnsure = true;
   std::uint32_t rayBudget = 1u << 21;  // rays per frame (all cascades)
   float viewConeDegrees = 60.0f;    // half-angle of the cone counted as "in view"
 

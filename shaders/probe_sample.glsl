@@ -22,6 +22,20 @@ float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
   return s.r.hit ? 1e-4f : 1.0f;
 }
 
+// Whether the SDF test can change a corner's answer (GI "Visibility" in docs/DECISIONS.md). The
+// test exists for the corners Chebyshev would let through a thin wall: depth texels that mix
+// near hits and far ones (large variance). Where the bilinearly filtered moments are decisive it
+// is skipped: the probe is hidden beyond doubt (Chebyshev weight below 1e-3: the SDF could only
+// lower a weight the crush already sends to ~1e-9), or the receiver lies nearer than the mean
+// depth of a narrow distribution (sigma <= 10% of the mean; every ray near that direction went
+// at least about as far, so no wall stands in between). Without Chebyshev every corner is traced.
+bool probeSdfVisibilityUnsure(ProbeFrame f, vec2 moments, float r, float chebyshev) {
+  if ((f.options.x & (kProbeOptionSdfEverywhere | kProbeOptionNoChebyshev)) != 0u) return true;
+  if (chebyshev < 1e-3f) return false;
+  float variance = max(moments.y - moments.x * moments.x, 0.0f);
+  return !(r <= moments.x && variance <= 0.01f * moments.x * moments.x);
+}
+
 // One volume's estimate: rgb and the summed weight (0 when no probe of the cage is usable).
 // M21 Sec. 2.2 and 4.1 / H22 Sec. 4.4: the 8 probes of the cage around the biased receiver,
 // each weighted by backface (wrap) x visibility (Chebyshev on the depth moments towards the
@@ -55,9 +69,15 @@ vec4 probeVolumeIrradiance(ProbeFrame f, uint c, vec3 x, vec3 n, vec3 view, bool
     vec3 fromProbe = biased - p;
     float r = length(fromProbe);
     vec3 dirFromProbe = r > 1e-6f ? fromProbe / r : n;
-    if ((f.options.x & kProbeOptionNoChebyshev) == 0u)
-      w *= probeChebyshevWeight(probeSampleDepth(probe, dirFromProbe), r, v.visibility.w);
-    if (sdfVisibility) w *= probeSdfVisibility(f, c, p, biased);
+    vec2 moments = vec2(0.0f);
+    float chebyshev = 1.0f;
+    if ((f.options.x & kProbeOptionNoChebyshev) == 0u) {
+      moments = probeSampleDepth(probe, dirFromProbe);
+      chebyshev = probeChebyshevWeight(moments, r, v.visibility.w);
+    }
+    w *= chebyshev;
+    if (sdfVisibility && probeSdfVisibilityUnsure(f, moments, r, chebyshev))
+      w *= probeSdfVisibility(f, c, p, biased);
     w = probeCrushWeight(max(w, 1e-6f), 0.2f);
     w *= probeTrilinearWeight(alpha, corner);
     sum += probeSampleIrradiance(probe, n, v.blend.w) * w;

@@ -107,6 +107,8 @@ SDF_CONST uint kProbeOptionObjects = 512u;      // moving objects are bound (obj
 SDF_CONST uint kProbeObjectMaskShift = 12u;     // bits 12..15: region cascades listing an object
 SDF_CONST uint kProbeOptionObjectsNaive = 1024u;  // every ray against every object (stress peer)
 SDF_CONST uint kProbeOptionBackfacesBlack = 2048u;  // blend backface rays as black radiance
+SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every corner, not only
+                                                   // where Chebyshev is unsure (probe_sample.glsl)
 
 // Push constants of every probe field pass: which sub-pass, how many threads.
 SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays into interior texels
