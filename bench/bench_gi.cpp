@@ -283,10 +283,11 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
   rep.width = opt.width;
   rep.height = opt.height;
 
-  if (opt.gpuTable && !points.cameras.empty()) {
-    const StreamedStack& st = stacks.begin()->second;
-    const PrimaryTraceTiming t = primaryTraceTiming(ctx, points.cameras.front(), *st.stack,
-                                                    st.allSlots, opt.width, opt.height, 8);
+  if (opt.gpuTable) {  // the stack of the default's cascades
+    const auto it = stacks.find(scene->defaultCascades);
+    const StreamedStack& st = it != stacks.end() ? it->second : stacks.rbegin()->second;
+    const PrimaryTraceTiming t =
+        primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height, 8);
     rep.primaryRays = t.rays;
     rep.primaryHits = t.hits;
     rep.primaryTraceMs = t.milliseconds;

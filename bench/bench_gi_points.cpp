@@ -74,7 +74,7 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
   return v;
 }
 
-PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const reference::PinholeCamera& view,
+PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,
                                       const CascadeStack& stack,
                                       std::span<const std::uint32_t> slots, int width, int height,
                                       int repeats) {
@@ -82,10 +82,9 @@ PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const reference::Pinhol
   tracer.sync(stack, slots);
   const CascadeStackImage img = stack.stackImage();
   Camera cam;
-  cam.position = glm::dvec3(view.position);
-  cam.target = cam.position + glm::dvec3(view.forward);
-  cam.up = glm::dvec3(view.up);
-  cam.fovYDegrees = view.verticalFovDegrees;
+  cam.position = scene.streamCamera;
+  cam.target = scene.streamCamera + glm::dvec3(scene.viewDirection);
+  cam.fovYDegrees = 60.0;
   const auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
   PrimaryTraceTiming t;
   t.rays = rays.size();

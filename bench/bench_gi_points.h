@@ -45,14 +45,16 @@ ViewPoints visiblePoints(const BenchScene& scene, const reference::PathTracer& t
 ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const CascadeStack& stack,
                             std::span<const std::uint32_t> slots, int width, int height);
 
-// Primary-ray SDF traversal alone (trace_stack.comp, no shading) for one view at width × height:
-// the GPU time of the pass (median of `repeats` dispatches after one warm-up) and how many rays
-// hit. The real-GPU table reports it as rays per second, the traversal's own throughput.
+// Primary-ray SDF traversal alone (trace_stack.comp, no shading): width × height rays from the
+// scene's stream camera (inside every cascade, unlike the reference's views, which may look in
+// from outside the stack) along its view direction, 60° vertical field of view: the GPU time of
+// the pass (median of `repeats` dispatches after one warm-up) and how many rays hit. The
+// real-GPU table reports it as rays per second, the traversal's own throughput.
 struct PrimaryTraceTiming {
   std::size_t rays = 0, hits = 0;
   double milliseconds = 0.0;  // 0: the device has no timestamps
 };
-PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const reference::PinholeCamera& view,
+PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,
                                       const CascadeStack& stack,
                                       std::span<const std::uint32_t> slots, int width, int height,
                                       int repeats);

@@ -412,7 +412,7 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
   }
   if (s.primaryRays > 0)
     md << "\nPrimary-ray SDF traversal alone (`trace_stack`, no shading), " << s.width << "×"
-       << s.height << " rays of the view: " << s.primaryRays << " rays, " << s.primaryHits
+       << s.height << " rays from the stream camera along its view direction (60° field of view): " << s.primaryRays << " rays, " << s.primaryHits
        << " hits, " << fmt("%.3f", s.primaryTraceMs) << " ms = "
        << fmt("%.3f", s.primaryTraceMs > 0.0 ? double(s.primaryRays) / (s.primaryTraceMs * 1e-3) * 1e-9
                                              : 0.0)

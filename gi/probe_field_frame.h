@@ -71,7 +71,7 @@ struct ProbeFieldSettings {
   enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };
   Visibility visibility = Visibility::ChebyshevAndSdf;  // sampling's visibility test
   // With ChebyshevAndSdf: trace the SDF only for the cage corners whose depth moments leave the
-  // answer open (probe_sample.glsl, probeSdfVisibilityUnsure); false traces every corner.
+  // answer open (probe_sample.glsl, probeSdfVisibilityPresumed); false traces every corner.
   bool sdfVisibilityWhereUnsure = true;
   std::uint32_t rayBudget = 1u << 21;  // rays per frame (all cascades)
   float viewConeDegrees = 60.0f;    // half-angle of the cone counted as "in view"

@@ -22,18 +22,19 @@ float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
   return s.r.hit ? 1e-4f : 1.0f;
 }
 
-// Whether the SDF test can change a corner's answer (GI "Visibility" in docs/DECISIONS.md). The
-// test exists for the corners Chebyshev would let through a thin wall: depth texels that mix
-// near hits and far ones (large variance). Where the bilinearly filtered moments are decisive it
-// is skipped: the probe is hidden beyond doubt (Chebyshev weight below 1e-3: the SDF could only
-// lower a weight the crush already sends to ~1e-9), or the receiver lies nearer than the mean
-// depth of a narrow distribution (sigma <= 10% of the mean; every ray near that direction went
-// at least about as far, so no wall stands in between). Without Chebyshev every corner is traced.
-bool probeSdfVisibilityUnsure(ProbeFrame f, vec2 moments, float r, float chebyshev) {
-  if ((f.options.x & (kProbeOptionSdfEverywhere | kProbeOptionNoChebyshev)) != 0u) return true;
-  if (chebyshev < 1e-3f) return false;
+// The SDF test's answer where the depth moments already give it (GI "Visibility" in
+// docs/DECISIONS.md), else -1 (trace). The test exists for the corners Chebyshev would let
+// through a thin wall: depth texels that mix near hits and far ones (large variance). Where the
+// bilinearly filtered moments are decisive the trace is skipped and its likely answer used: a
+// probe hidden beyond doubt (Chebyshev weight below 1e-3) is blocked (1e-4, as a hit), and a
+// receiver nearer than the mean depth of a narrow distribution (sigma <= 10% of the mean: every
+// ray near that direction went at least about as far, so no wall stands in between) is visible.
+// Without Chebyshev, or with kProbeOptionSdfEverywhere, every corner is traced.
+float probeSdfVisibilityPresumed(ProbeFrame f, vec2 moments, float r, float chebyshev) {
+  if ((f.options.x & (kProbeOptionSdfEverywhere | kProbeOptionNoChebyshev)) != 0u) return -1.0f;
+  if (chebyshev < 1e-3f) return 1e-4f;
   float variance = max(moments.y - moments.x * moments.x, 0.0f);
-  return !(r <= moments.x && variance <= 0.01f * moments.x * moments.x);
+  return r <= moments.x && variance <= 0.01f * moments.x * moments.x ? 1.0f : -1.0f;
 }
 
 // One volume's estimate: rgb and the summed weight (0 when no probe of the cage is usable).
@@ -76,8 +77,10 @@ vec4 probeVolumeIrradiance(ProbeFrame f, uint c, vec3 x, vec3 n, vec3 view, bool
       chebyshev = probeChebyshevWeight(moments, r, v.visibility.w);
     }
     w *= chebyshev;
-    if (sdfVisibility && probeSdfVisibilityUnsure(f, moments, r, chebyshev))
-      w *= probeSdfVisibility(f, c, p, biased);
+    if (sdfVisibility) {
+      float presumed = probeSdfVisibilityPresumed(f, moments, r, chebyshev);
+      w *= presumed >= 0.0f ? presumed : probeSdfVisibility(f, c, p, biased);
+    }
     w = probeCrushWeight(max(w, 1e-6f), 0.2f);
     w *= probeTrilinearWeight(alpha, corner);
     sum += probeSampleIrradiance(probe, n, v.blend.w) * w;

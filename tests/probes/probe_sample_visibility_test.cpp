@@ -1,5 +1,5 @@
 // Sampling's SDF visibility test runs only where Chebyshev leaves the answer open
-// (probe_sample.glsl, probeSdfVisibilityUnsure). Against the test at every cage corner, on the
+// (probe_sample.glsl, probeSdfVisibilityPresumed). Against the test at every cage corner, on the
 // same converged field: the irradiance of receivers on both sides of the walls of a closed room
 // with one-voxel walls (the leak test's scene) must agree within stated tolerances, in the finest
 // and the coarsest cascade and with the cascades blended, and skipping tests must never let more
