@@ -39,6 +39,7 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       select_(pipeline(context, gpu::ShaderId::probe_select)),
       trace_(pipeline(context, gpu::ShaderId::probe_trace)),
       blend_(pipeline(context, gpu::ShaderId::probe_blend)),
+      border_(pipeline(context, gpu::ShaderId::probe_border)),
       sample_(pipeline(context, gpu::ShaderId::probe_sample)),
       frame_(deviceBuffer(context, sizeof(gpu_shared::ProbeFrame))),
       volumes_(deviceBuffer(context, cascades * sizeof(gpu_shared::ProbeVolume))),
@@ -148,9 +149,9 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
   const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
   const ProbePushConstants interior =
-      push(gpu_shared::kProbeBlendModeInterior, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
+      push(0, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
   const ProbePushConstants border =
-      push(gpu_shared::kProbeBlendModeBorder, capacity * gpu_shared::kProbeTileTexelsPerProbe);
+      push(0, capacity * gpu_shared::kProbeTileTexelsPerProbe);
 
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
@@ -160,7 +161,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   // Sized on the GPU by the list's length: sleeping and off probes launch no thread at all.
   batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
   batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
-  batch.dispatchIndirect("probe_border", blend_, b, &border, sizeof border, dispatchArgs_, 24);
+  batch.dispatchIndirect("probe_border", border_, b, &border, sizeof border, dispatchArgs_, 24);
   batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);
 }
 

@@ -94,7 +94,7 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  gpu::ComputePipeline classify_, select_, trace_, blend_, sample_;
+  gpu::ComputePipeline classify_, select_, trace_, blend_, border_, sample_;
   // frame_, volumes_, rotations_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,

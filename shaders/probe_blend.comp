@@ -1,7 +1,7 @@
 #version 450
-// Probe field, blend: pc.dispatch.x = kProbeBlendModeInterior (a workgroup of 64 per listed
-// probe, for its 232 interior texels) or kProbeBlendModeBorder (one invocation per tile texel of
-// each listed probe, 320).
+// Probe field, blend: a workgroup of 64 per listed probe, for its 232 interior texels (the
+// border copies are probe_border.comp, a shader of their own: with this one's shared memory and
+// barriers they paid for both; lavapipe ran them at two thirds of the blend's time).
 //
 // Interior: every texel sums over all the probe's rays (128 by default), so a thread per texel
 // reading the rays from the ray buffer loaded 232 x 128 x 32 bytes per probe through L1. The
@@ -55,13 +55,4 @@ void blendInterior() {
       probeBlendFinish(frame, texels[k], sums[k]);
 }
 
-void main() {
-  if (pc.dispatch.x == kProbeBlendModeInterior) {
-    blendInterior();
-    return;
-  }
-  uint id = probeInvocation();
-  uint l = id / kProbeTileTexelsPerProbe;
-  if (id >= pc.dispatch.y || l >= probeListLength()) return;
-  probeBorderPass(l, id % kProbeTileTexelsPerProbe);
-}
+void main() { blendInterior(); }

@@ -111,8 +111,6 @@ SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every c
                                                    // where Chebyshev is unsure (probe_sample.glsl)
 
 // Push constants of every probe field pass: which sub-pass, how many threads.
-SDF_CONST uint kProbeBlendModeInterior = 0u;  // probe_blend.comp: blend rays into interior texels
-SDF_CONST uint kProbeBlendModeBorder = 1u;    // probe_blend.comp: copy border texels
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
 SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probes below the cutoff
 SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
