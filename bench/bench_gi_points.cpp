@@ -41,6 +41,20 @@ ViewPoints visiblePoints(const BenchScene& scene, const reference::PathTracer& t
   return v;
 }
 
+namespace {
+
+// The scene's stream camera along its view direction, 60° vertical field of view: inside every
+// cascade of the stack streamed around it.
+Camera streamViewCamera(const BenchScene& scene) {
+  Camera cam;
+  cam.position = scene.streamCamera;
+  cam.target = scene.streamCamera + glm::dvec3(scene.viewDirection);
+  cam.fovYDegrees = 60.0;
+  return cam;
+}
+
+}  // namespace
+
 ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const CascadeStack& stack,
                             std::span<const std::uint32_t> slots, int width, int height) {
   ViewPoints v;
@@ -50,10 +64,7 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
   GpuStackTracer tracer(ctx, stack);
   tracer.sync(stack, slots);
   const CascadeStackImage img = stack.stackImage();
-  Camera cam;
-  cam.position = scene.streamCamera;
-  cam.target = scene.streamCamera + glm::dvec3(scene.viewDirection);
-  cam.fovYDegrees = 60.0;
+  const Camera cam = streamViewCamera(scene);
   const auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
   const auto hits = tracer.trace(rays, TraceSettings{});
   v.start.push_back(0);
@@ -81,10 +92,7 @@ PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene
   GpuStackTracer tracer(ctx, stack);
   tracer.sync(stack, slots);
   const CascadeStackImage img = stack.stackImage();
-  Camera cam;
-  cam.position = scene.streamCamera;
-  cam.target = scene.streamCamera + glm::dvec3(scene.viewDirection);
-  cam.fovYDegrees = 60.0;
+  const Camera cam = streamViewCamera(scene);
   const auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
   PrimaryTraceTiming t;
   t.rays = rays.size();
