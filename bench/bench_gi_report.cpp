@@ -367,7 +367,11 @@ void writeBenchGiOutputs(const fs::path& outDir, std::vector<SceneReport>& scene
 void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& run) {
   std::ostringstream md, csv;
   md << "# Per-pass GPU times: " << s.name << "\n\n`sdfstream " << run.command << "` on **"
-     << run.device << "**. Medians over " << s.measuredFrames << " frames after " << s.warmupFrames
+     << run.device << "**. "
+     << (s.rounds > 1 ? "Each configuration's fastest of " + std::to_string(s.rounds) +
+                            " rounds run in turn (probe update + sampling); "
+                      : std::string())
+     << "Medians over " << s.measuredFrames << " frames after " << s.warmupFrames
      << " warm-up frames, from the passes' GPU timestamps. Sampling: `probe_sample` for the "
      << s.points << " visible points of one " << s.width << "×" << s.height
      << " view. Light cache: relighting every resident page (first frame).\n\n"

@@ -66,6 +66,7 @@ struct SceneReport {
   // --gpu-table: primary-ray SDF traversal alone over the first view (trace_stack.comp).
   std::size_t primaryRays = 0, primaryHits = 0;
   double primaryTraceMs = 0.0;
+  int rounds = 1;  // --gpu-table --rounds: each configuration's fastest of this many rounds
   double seconds = 0.0;
 };
 

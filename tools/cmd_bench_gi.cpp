@@ -68,7 +68,9 @@ constexpr const char* kHelp =
     "  --query-offset V  GI queries sit V LOD-0 voxels off the reference's points along the\n"
     "                 normal (default 0.5: on the SDF surface of an open sheet)\n"
     "  --gpu-table    only the per-pass time table of scripts/bench-gpu (SDFDDGI's probe count,\n"
-    "                 our default, plain DDGI) on the given scenes; writes DIR/gpu-table.md\n";
+    "                 our default, plain DDGI) on the given scenes; writes DIR/gpu-table.md\n"
+    "  --rounds N     with --gpu-table: run the configurations N times in turn and keep each\n"
+    "                 one's fastest round (a GPU's clocks can change within a run; default 1)\n";
 
 }  // namespace
 
@@ -76,7 +78,7 @@ int runBenchGi(int argc, char** argv) {
   Args args(argc, argv, 3,
             {"--scenes", "--out", "-o", "--data", "--large-world", "--width", "--height",
              "--samples", "--frames", "--measure", "--device", "--converge-cap", "--configs",
-             "--query-offset", "--diagnose-config"},
+             "--query-offset", "--diagnose-config", "--rounds"},
             {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose",
              "--diagnose"});
   if (args.has("--help") || args.has("-h")) {
@@ -104,6 +106,7 @@ int runBenchGi(int argc, char** argv) {
   opt.warmup = args.integer("--frames", opt.warmup, 1, 100000);
   opt.measured = args.integer("--measure", opt.measured, 1, 1000);
   opt.convergeCap = args.integer("--converge-cap", opt.convergeCap, 0, 100000);
+  opt.rounds = args.integer("--rounds", opt.rounds, 1, 100);
   opt.queryOffsetVoxels = args.number("--query-offset", opt.queryOffsetVoxels);
   const auto scenes = args.value("--scenes");
   opt.scenes = scenes ? splitList(*scenes) : bench::defaultGiBenchScenes(opt);
