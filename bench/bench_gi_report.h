@@ -63,7 +63,7 @@ struct SceneReport {
   std::size_t peerRays = 0;
   std::string peerRaySet;
   std::string diagnosis;  // markdown (--diagnose): bench/bench_gi_diagnose.h
-  // --gpu-table: primary-ray SDF traversal alone over the first view (trace_stack.comp).
+  // --gpu-table: primary-ray SDF traversal alone from the stream camera (primaryTraceTiming).
   std::size_t primaryRays = 0, primaryHits = 0;
   double primaryTraceMs = 0.0;
   int rounds = 1;  // --gpu-table --rounds: each configuration's fastest of this many rounds
