@@ -57,7 +57,9 @@ CommandBatch::CommandBatch(Context& ctx, std::uint32_t maxPasses)
 
 CommandBatch::CommandBatch(Context& ctx, VkCommandBuffer callerCommandBuffer,
                            std::uint32_t maxPasses)
-    : ctx_(&ctx), commandBuffer_(callerCommandBuffer), maxPasses_(maxPasses),
+    : ctx_(&ctx),
+      commandBuffer_(callerCommandBuffer),
+      maxPasses_(maxPasses),
       ownsCommandBuffer_(false) {
   SDFSTREAM_GPU_CHECK(callerCommandBuffer != VK_NULL_HANDLE, "recordInto a null command buffer");
   createQueryPool();
@@ -153,8 +155,7 @@ void CommandBatch::dispatch(std::string_view name, const ComputePipeline& pipeli
 
 void CommandBatch::dispatchIndirect(std::string_view name, const ComputePipeline& pipeline,
                                     std::span<const Buffer* const> buffers, const void* push,
-                                    std::size_t pushBytes, const Buffer& args,
-                                    std::size_t offset) {
+                                    std::size_t pushBytes, const Buffer& args, std::size_t offset) {
   recordPass(name, pipeline, buffers, push, pushBytes, [&](const std::string& who) {
     SDFSTREAM_GPU_CHECK(args && offset % 4 == 0 && offset + 12 <= args.size(),
                         who + "indirect arguments outside their buffer");
@@ -209,6 +210,34 @@ void CommandBatch::recordPass(std::string_view name, const ComputePipeline& pipe
                        static_cast<std::uint32_t>(pushBytes), push);
   issue(who);
 
+  if (queryPool_)
+    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_,
+                        query + 1);
+  if (ctx_->cmdEndLabel()) ctx_->cmdEndLabel()(commandBuffer_);
+}
+
+void CommandBatch::record(std::string_view name,
+                          const std::function<void(VkCommandBuffer)>& commands) {
+  SDFSTREAM_GPU_CHECK(commandBuffer_ && !submitted(), "recording into a submitted batch");
+  SDFSTREAM_GPU_CHECK(passNames_.size() < maxPasses_,
+                      "record '" + std::string(name) + "': more passes than maxPasses");
+  // Every earlier write, visible to every stage: the commands may read buffers from any stage
+  // (vertex pulling, say), which the compute/transfer barrier of beforeCommand does not cover.
+  if (hasCommands_)
+    memoryBarrier(commandBuffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                  VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                  VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+  hasCommands_ = true;
+  const std::uint32_t query = 2 * static_cast<std::uint32_t>(passNames_.size());
+  passNames_.emplace_back(name);
+  if (ctx_->cmdBeginLabel()) {
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = passNames_.back().c_str();
+    ctx_->cmdBeginLabel()(commandBuffer_, &label);
+  }
+  if (queryPool_)
+    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_, query);
+  commands(commandBuffer_);
   if (queryPool_)
     vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_,
                         query + 1);

@@ -83,6 +83,13 @@ class CommandBatch {
                         std::span<const Buffer* const> buffers, const void* push,
                         std::size_t pushBytes, const Buffer& args, std::size_t offset);
 
+  // Records commands the batch has no helper for (a render pass, image copies) as one timed
+  // pass: a full memory barrier (every stage) separates them from the batch's earlier commands,
+  // and `commands` gets the batch's command buffer. Contract: the commands leave their results
+  // written by compute or transfer stages (add your own barrier inside otherwise, e.g. after a
+  // render pass before copying its images out), as the batch's next barrier covers those only.
+  // Counts against maxPasses like a dispatch.
+  void record(std::string_view name, const std::function<void(VkCommandBuffer)>& commands);
   // Copies `bytes` (multiple of 4 not required) from src+srcOffset to dst+dstOffset. Checked
   // (abort): both ranges inside their buffers; the two buffers differ.
   void copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t srcOffset = 0,
