@@ -122,7 +122,7 @@ PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
     : context_(context),
       pipeline_(
           context, gpu::ShaderId::shade_primary,
-          gpu::PipelineDesc{15, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+          gpu::PipelineDesc{17, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
       rays_(context, gpu::StagedBuffer::ToDevice),
       shaded_(context, gpu::StagedBuffer::ToHost),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),

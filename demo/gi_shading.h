@@ -86,7 +86,7 @@ class PrimaryShadePass {
   gpu::ComputePipeline pipeline_;
   gpu::StagedBuffer rays_, shaded_;  // device-local for the pass (gpu/staged_buffer.h)
   gpu::Buffer lights_, noRadiance_;
-  NoObjectsBindings noObjects_;  // bound at 9-14 when there are no objects
+  NoObjectsBindings noObjects_;  // bound at 9-16 when there are no objects
   double milliseconds_ = 0.0;
 };
 

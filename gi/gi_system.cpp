@@ -44,6 +44,7 @@ void GiSystem::setObjects(const ObjectLibrary* library, InstanceSet* instances) 
   objectLibrary_ = library;
   instances_ = library ? instances : nullptr;
   probes_.setObjects(instances_ ? &objects_ : nullptr);
+  if (instances_) objects_.prepareCards(*library);
 }
 
 GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
@@ -89,6 +90,7 @@ GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeSt
 GiFrameStats GiSystem::runBlocking(const SceneUpload& upload, const CascadeStackImage& image,
                                    const SceneLights& lights, probe::ProbeFrameInputs inputs,
                                    std::uint64_t frame) {
+  if (instances_) objects_.prepareCards(*objectLibrary_);  // before the frame's batch opens
   staging_.beginFrame();
   harvestCompleted();
   FrameInFlight f{context_.beginBatch(kFramePasses), staging_.currentSlot(), {}};
@@ -101,6 +103,8 @@ GiFrameStats GiSystem::runBlocking(const SceneUpload& upload, const CascadeStack
 GiFrameRecording GiSystem::runRecorded(VkCommandBuffer commandBuffer, const SceneUpload& upload,
                                        const CascadeStackImage& image, const SceneLights& lights,
                                        probe::ProbeFrameInputs inputs, std::uint64_t frame) {
+  // New meshes' cards are captured with a submission of our own (at load time, not per frame).
+  if (instances_) objects_.prepareCards(*objectLibrary_);
   staging_.beginFrame();  // waits only when the slot's earlier frame is still running
   harvestCompleted();     // before this frame's copies overwrite the slot's readback
   FrameInFlight f{context_.recordInto(commandBuffer, kFramePasses), staging_.currentSlot(), {}};
@@ -133,7 +137,7 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   stats.host.lightMs = millisecondsSince(t);
   if (instances_) {
     t = Clock::now();
-    objects_.record(batch, staging_, *objectLibrary_, *instances_, image);
+    objects_.record(batch, staging_, *objectLibrary_, *instances_, image, lightsChanged);
     stats.objectInstances = std::uint32_t(instances_->size());
     stats.host.objectsMs = millisecondsSince(t);
     stats.host.objectsBuildMs = objects_.lastBuildMilliseconds();

@@ -7,7 +7,7 @@
 namespace sdfstream {
 namespace {
 constexpr glm::uvec3 kGroup(64, 1, 1);
-constexpr std::uint32_t kBindings = 14;  // 8 + 6 object bindings (light_cache.comp)
+constexpr std::uint32_t kBindings = 16;  // 8 + 8 object bindings (light_cache.comp)
 }  // namespace
 
 LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
@@ -15,6 +15,9 @@ LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
       settings_(settings),
       pipeline_(context, gpu::ShaderId::light_cache,
                 gpu::PipelineDesc{kBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
+      cardPipeline_(
+          context, gpu::ShaderId::card_light,
+          gpu::PipelineDesc{kBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
       radiance_(context, 4, gpu::BufferKind::DeviceLocal),
       pageList_(context, 4096 * sizeof(std::uint32_t), gpu::BufferKind::DeviceLocal),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
@@ -39,7 +42,7 @@ void LightCache::update(const GpuStackScene& scene, std::span<const gpu_shared::
                         const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
                         double voxelSize0, const ObjectScene* objects) {
   gpu::StagingRing staging(context_, 1);
-  gpu::CommandBatch batch = context_.beginBatch(1);
+  gpu::CommandBatch batch = context_.beginBatch(2);
   staging.beginFrame();
   record(batch, staging, scene, lights, sky, dirtyPages, voxelSize0, objects);
   staging.endFrame(batch.submit());
@@ -57,25 +60,42 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   grow(batch, std::size_t(scene.slotCount()) * gpu_shared::kBrickMaterialCount);
   pagesRelit_ = 0;
   timings_.clear();
-  if (dirtyPages.empty() || scene.cascadeCount() == 0) return;  // skip what is not needed
-  pagesRelit_ = std::uint32_t(dirtyPages.size());
-
-  if (pageList_.size() < dirtyPages.size_bytes())
-    pageList_ = gpu::Buffer(context_, dirtyPages.size_bytes(), gpu::BufferKind::DeviceLocal);
-  staging.upload(batch, pageList_, dirtyPages);
+  const std::uint32_t cards = objects && objects->hasInstances() ? objects->cardRelightCount() : 0u;
+  // Skip what is not needed.
+  if ((dirtyPages.empty() && cards == 0) || scene.cascadeCount() == 0) return;
   staging.upload(batch, lights_, lights);
+  const auto objectBuffers =
+      objects && objects->active() ? objects->buffers() : noObjects_.buffers();
 
-  const gpu_shared::LightCachePushConstants pc =
-      lightCachePushConstants(settings_, std::uint32_t(dirtyPages.size()),
-                              std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
-  // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512 cells.
-  std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
-                                          &scene.pageTables(), &scene.distance(), &scene.albedo(),
-                                          &scene.emission(),   &scene.params()};
-  for (const gpu::Buffer* o : objects && objects->active() ? objects->buffers() : noObjects_.buffers())
-    bufs.push_back(o);
-  batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
-                 glm::uvec3(64, std::uint32_t(dirtyPages.size()), 1));
+  if (!dirtyPages.empty()) {
+    pagesRelit_ = std::uint32_t(dirtyPages.size());
+    if (pageList_.size() < dirtyPages.size_bytes())
+      pageList_ = gpu::Buffer(context_, dirtyPages.size_bytes(), gpu::BufferKind::DeviceLocal);
+    staging.upload(batch, pageList_, dirtyPages);
+    const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
+        settings_, std::uint32_t(dirtyPages.size()), std::uint32_t(lights.size()),
+        scene.cascadeCount(), sky, voxelSize0);
+    // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512
+    // cells.
+    std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,          &radiance_,
+                                            &scene.pageTables(), &scene.distance(), &scene.albedo(),
+                                            &scene.emission(),   &scene.params()};
+    bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
+    batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
+                   glm::uvec3(64, std::uint32_t(dirtyPages.size()), 1));
+  }
+  if (cards > 0) {
+    // The listed instances' card light (card_light.comp): one workgroup per instance; the
+    // light buffer is both the pass's output and the object binding the probes read later.
+    const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
+        settings_, cards, std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
+    std::vector<const gpu::Buffer*> bufs = {
+        &objects->cardRelightList(), &lights_,        &objects->cardLight(), &scene.pageTables(),
+        &scene.distance(),           &scene.albedo(), &scene.emission(),     &scene.params()};
+    bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
+    batch.dispatch("light_cache_cards", cardPipeline_, bufs, &pc, sizeof pc,
+                   glm::uvec3(64, cards, 1));
+  }
 }
 
 std::vector<std::uint32_t> LightCache::downloadRadiance() const {

@@ -149,7 +149,7 @@ class LightCache {
 
   gpu::Context& context_;
   LightCacheSettings settings_;
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipeline pipeline_, cardPipeline_;
   gpu::Buffer radiance_;  // device-local light atlas
   gpu::Buffer pageList_;  // device-local, grown on demand; written through the staging ring
   gpu::Buffer lights_;    // device-local, kMaxLights GpuLight; written through the staging ring

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "cards/card_layout.h"
 #include "objects/instance_set.h"
 #include "objects/object_library.h"
 #include "shaders/shared/object_layout.h"
@@ -33,6 +34,16 @@ struct ObjectSceneSettings {
   // Probe rays test every instance instead of walking the regions: the naive peer of the stress
   // benchmark (the regions are still built, so their cost is measured either way).
   bool naiveTraversal = false;
+  // Cards (cards/, GS slides b "Storing lighting information"): each mesh's six views captured
+  // once, each instance's direct light per card texel relit within a per-frame budget, read by
+  // probe rays that hit the instance. Off: object hits take emission + the probes' light only.
+  bool cards = true;
+  CardSettings cardLayout;
+  // Instances whose card light is recomputed per frame at most: moved or never lit first, then
+  // the longest unlit (so with N instances nothing is staler than N / budget frames).
+  std::uint32_t cardRelightBudget = 256;
+  // Card light memory cap (4 bytes per texel); instances beyond it have no cards.
+  std::uint64_t cardLightBudgetBytes = 256ull << 20;
 };
 
 // Every mesh of the library, packed: ObjectMeshGpu records, distances, (albedo, emission) pairs.

@@ -1,7 +1,9 @@
 #include "gi/object_scene.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <stdexcept>
 
 #include "core/stopwatch.h"
 
@@ -29,16 +31,19 @@ ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
     : context_(context),
       settings_(settings),
       regionsPipeline_(context, gpu::ShaderId::object_regions,
-                       gpu::PipelineDesc{6, sizeof(gs::ObjectRegionPush), kGroup}),
+                       gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush), kGroup}),
       tracePipeline_(context, gpu::ShaderId::object_trace,
-                     gpu::PipelineDesc{8, sizeof(gs::ObjectTracePush), kGroup}),
+                     gpu::PipelineDesc{10, sizeof(gs::ObjectTracePush), kGroup}),
       meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
             gpu::BufferKind::DeviceLocal),
       instances_(context, sizeof(gs::ObjectInstanceGpu), gpu::BufferKind::DeviceLocal),
       regions_(context, sizeof(gs::ObjectRegionGpu), gpu::BufferKind::DeviceLocal),
       lists_(context, 4, gpu::BufferKind::DeviceLocal),
       distance_(context, 4, gpu::BufferKind::DeviceLocal),
-      material_(context, 8, gpu::BufferKind::DeviceLocal) {
+      material_(context, 8, gpu::BufferKind::DeviceLocal),
+      cardData_(context, 64, gpu::BufferKind::DeviceLocal),
+      cardLight_(context, 4, gpu::BufferKind::DeviceLocal),
+      relightList_(context, 4, gpu::BufferKind::DeviceLocal) {
   // Inactive until the first update: the meta buffer must still read as "no instances".
   gpu::CommandBatch batch = context.beginBatch(0);
   batch.fill(meta_, 0u);
@@ -60,8 +65,88 @@ void ObjectScene::recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& stagin
   atlasVersion_ = library.version();
 }
 
+void ObjectScene::prepareCards(const ObjectLibrary& library) {
+  if (cardsVersion_ == library.version()) return;
+  cardsVersion_ = library.version();
+  cardsUploaded_ = false;
+  const std::uint32_t meshes = std::uint32_t(library.size());
+  meshTexels_.assign(meshes, 0u);
+  cardTable_.assign(std::size_t(meshes) * gs::kCardsPerMesh, gs::CardGpu{});
+  cardTexels_.clear();
+  captureMilliseconds_ = 0.0;
+  if (settings_.cards && !rasterizer_) {
+    try {
+      rasterizer_ = std::make_unique<CardRasterizer>(context_);
+    } catch (const std::runtime_error& e) {  // e.g. a compute-only queue adopted from an engine
+      std::fprintf(stderr, "sdfstream: moving objects without cards: %s\n", e.what());
+      settings_.cards = false;
+    }
+  }
+  // Texels are indexed from the start of the uvec4 array, after the table (4 uvec4 per card).
+  const std::uint32_t tableWords = std::uint32_t(cardTable_.size()) * 4u;
+  for (std::uint32_t m = 0; settings_.cards && m < meshes; ++m) {
+    const ObjectSdf& sdf = library.mesh(m);
+    const TriangleScene& triangles = library.triangles(m);
+    const MeshCards cards = layoutCards(sdf.meshMin, sdf.meshMax, sdf.voxel, settings_.cardLayout);
+    const std::vector<CardVisibility> seen = rasterizer_->capture(triangles, cards);
+    captureMilliseconds_ += rasterizer_->lastMilliseconds();
+    const std::vector<gs::CardTexelGpu> texels = resolveCardTexels(triangles, cards, seen);
+    const std::uint32_t first = tableWords + std::uint32_t(cardTexels_.size());
+    for (std::uint32_t k = 0; k < gs::kCardsPerMesh; ++k) {
+      gs::CardGpu c = cards.cards[k];
+      c.first.y = first;
+      cardTable_[m * gs::kCardsPerMesh + k] = c;
+    }
+    cardTexels_.insert(cardTexels_.end(), texels.begin(), texels.end());
+    meshTexels_[m] = cards.texelCount;
+  }
+}
+
+void ObjectScene::uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging) {
+  cardsUploaded_ = true;
+  static_assert(sizeof(gs::CardGpu) == 4 * sizeof(glm::uvec4) &&
+                sizeof(gs::CardTexelGpu) == sizeof(glm::uvec4));
+  const std::size_t tableBytes = cardTable_.size() * sizeof(gs::CardGpu);
+  const std::size_t texelBytes = cardTexels_.size() * sizeof(gs::CardTexelGpu);
+  cardData_ = gpu::Buffer(context_, std::max<std::size_t>(tableBytes + texelBytes, 64),
+                          gpu::BufferKind::DeviceLocal);
+  staging.upload(batch, cardData_, 0, cardTable_.data(), tableBytes);
+  staging.upload(batch, cardData_, tableBytes, cardTexels_.data(), texelBytes);
+}
+
+void ObjectScene::recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                                  bool lightsChanged) {
+  relight_.clear();
+  if (!settings_.cards) {
+    for (gs::ObjectInstanceGpu& inst : frame_.instances) inst.info.w = gs::kNoCardLight;
+    return;
+  }
+  relight_ = slots_.assign(frame_.instances, meshTexels_, lightsChanged,
+                           settings_.cardRelightBudget, settings_.cardLightBudgetBytes / 4);
+  const std::size_t needed = std::size_t(slots_.endTexel()) * sizeof(std::uint32_t);
+  if (cardLight_.size() < needed) {
+    // Grow by half again at least; blocks already lit keep their light.
+    gpu::Buffer bigger(context_, std::max(needed, cardLight_.size() * 3 / 2),
+                       gpu::BufferKind::DeviceLocal);
+    batch.fill(bigger, 0u);
+    batch.copy(cardLight_, bigger, cardLight_.size());
+    cardLight_ = std::move(bigger);
+  }
+  if (relight_.empty()) return;
+  ensure(context_, relightList_, relight_.size() * sizeof(std::uint32_t),
+         gpu::BufferKind::DeviceLocal);
+  staging.upload(batch, relightList_, 0, relight_.data(), relight_.size() * sizeof(std::uint32_t));
+}
+
+std::vector<std::uint32_t> ObjectScene::downloadCardLight() const {
+  std::vector<std::uint32_t> out(slots_.endTexel());
+  if (!out.empty()) cardLight_.download(out.data(), out.size() * sizeof(std::uint32_t));
+  return out;
+}
+
 void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instances,
                          const CascadeStackImage& stack) {
+  prepareCards(library);  // its own submission, before this batch opens
   gpu::StagingRing staging(context_, 1);
   gpu::CommandBatch batch = context_.beginBatch(3);
   staging.beginFrame();
@@ -73,10 +158,12 @@ void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instan
 
 void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                          const ObjectLibrary& library, const InstanceSet& instances,
-                         const CascadeStackImage& stack) {
+                         const CascadeStackImage& stack, bool lightsChanged) {
   if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
+  if (!cardsUploaded_) uploadCards(batch, staging);
   const auto buildStart = std::chrono::steady_clock::now();
   buildObjectFrame(library, instances, stack, settings_, frame_);
+  recordCardLight(batch, staging, lightsChanged);
   buildMilliseconds_ = millisecondsSince(buildStart);
   timings_.clear();
 
@@ -119,8 +206,9 @@ std::vector<gs::ObjectTraceHit> ObjectScene::trace(std::span<const gs::TraceRay>
   ensure(context_, hits_, hits.size() * sizeof(gs::ObjectTraceHit), gpu::BufferKind::Readback);
   std::memcpy(rays_.mapped(), rays.data(), rays.size_bytes());
   const gs::ObjectTracePush push{std::uint32_t(rays.size()), bruteForce ? 1u : 0u, 0u, 0u};
-  const std::array<const gpu::Buffer*, 8> bufs = {&meta_,     &instances_, &regions_, &lists_,
-                                                  &distance_, &material_,  &rays_,    &hits_};
+  const std::array<const gpu::Buffer*, 10> bufs = {&meta_,     &instances_, &regions_,  &lists_,
+                                                   &distance_, &material_,  &cardData_, &cardLight_,
+                                                   &rays_,     &hits_};
   gpu::CommandBatch batch = context_.beginBatch(1);
   batch.dispatch(bruteForce ? "object_trace_all" : "object_trace_regions", tracePipeline_, bufs,
                  &push, sizeof push, glm::uvec3(std::uint32_t(rays.size()), 1u, 1u));
@@ -144,7 +232,7 @@ std::vector<std::uint32_t> ObjectScene::downloadLists() const {
 
 std::size_t ObjectScene::deviceBytes() const {
   return meta_.size() + instances_.size() + regions_.size() + lists_.size() + distance_.size() +
-         material_.size();
+         material_.size() + cardData_.size() + cardLight_.size() + relightList_.size();
 }
 
 }  // namespace sdfstream

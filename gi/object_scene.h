@@ -8,9 +8,12 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
+#include "cards/card_rasterizer.h"
+#include "gi/card_light_slots.h"
 #include "gi/object_frame.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
@@ -23,12 +26,12 @@ namespace sdfstream {
 class GiSystem;
 
 // What passes that can trace objects bind when a frame has none: a zeroed meta buffer (zero
-// instances, so the shaders read nothing else) and a tiny buffer for the other five bindings.
+// instances, so the shaders read nothing else) and a tiny buffer for the other seven bindings.
 class NoObjectsBindings {
  public:
   explicit NoObjectsBindings(gpu::Context& context);
-  std::array<const gpu::Buffer*, 6> buffers() const {
-    return {&meta_, &empty_, &empty_, &empty_, &empty_, &empty_};
+  std::array<const gpu::Buffer*, 8> buffers() const {
+    return {&meta_, &empty_, &empty_, &empty_, &empty_, &empty_, &empty_, &empty_};
   }
 
  private:
@@ -44,10 +47,17 @@ class ObjectScene {
   // Call once per frame before the passes that trace objects, then instances.endFrame().
   void update(const ObjectLibrary& library, const InstanceSet& instances,
               const CascadeStackImage& stack);
+  // Captures the cards of the library's meshes when it changed since the last call (a blocking
+  // GPU submission of its own, so call it while no batch of this Context is recording: before a
+  // frame's batch begins; GiSystem does). record() uploads them with its next frame; meshes added
+  // since the last call have no cards until then (their hits are shaded without).
+  void prepareCards(const ObjectLibrary& library);
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
   // passes are named "object_regions_*" in the batch's timings. lastTimings() is not updated.
+  // lightsChanged: every instance's card light is stale (relit first, within the budget).
   void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const ObjectLibrary& library,
-              const InstanceSet& instances, const CascadeStackImage& stack);
+              const InstanceSet& instances, const CascadeStackImage& stack,
+              bool lightsChanged = false);
 
   // Something to bind this frame: instances, or regions where an instance was just removed (the
   // probes there must still wake up). False: passes bind NoObjectsBindings instead.
@@ -59,10 +69,25 @@ class ObjectScene {
   const ObjectSceneSettings& settings() const { return settings_; }
   void setNaiveTraversal(bool naive) { settings_.naiveTraversal = naive; }
 
-  // The six buffers of object_bindings.glsl, in binding order.
-  std::array<const gpu::Buffer*, 6> buffers() const {
-    return {&meta_, &instances_, &regions_, &lists_, &distance_, &material_};
+  // The eight buffers of object_bindings.glsl, in binding order.
+  std::array<const gpu::Buffer*, 8> buffers() const {
+    return {&meta_,     &instances_, &regions_,  &lists_,
+            &distance_, &material_,  &cardData_, &cardLight_};
   }
+  // Card light of this frame (shaders/card_light.comp, dispatched by the light cache): the
+  // instance indices to relight, uploaded by record(), and the buffer the pass writes.
+  std::uint32_t cardRelightCount() const { return std::uint32_t(relight_.size()); }
+  const gpu::Buffer& cardRelightList() const { return relightList_; }
+  const gpu::Buffer& cardLight() const { return cardLight_; }
+  const CardLightSlots::Stats& cardStats() const { return slots_.stats(); }
+  // Texels of mesh m's cards (0: none), and the card atlas as uploaded (the table of every
+  // mesh's six CardGpu, then the texels; CardGpu::first.y indexes the texels from the start).
+  const std::vector<std::uint32_t>& cardMeshTexels() const { return meshTexels_; }
+  const std::vector<gpu_shared::CardGpu>& cardTable() const { return cardTable_; }
+  const std::vector<gpu_shared::CardTexelGpu>& cardTexels() const { return cardTexels_; }
+  std::vector<std::uint32_t> downloadCardLight() const;
+  // GPU milliseconds of the last card capture (every mesh of the library), 0 if none.
+  double lastCaptureMilliseconds() const { return captureMilliseconds_; }
 
   // Rays (stack space) against the objects only: through the region lists, or every instance
   // (bruteForce: the naive peer). Blocking; for tests and the stress benchmark.
@@ -81,6 +106,8 @@ class ObjectScene {
  private:
   void recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                    const ObjectLibrary& library);
+  void uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging);
+  void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged);
 
   gpu::Context& context_;
   ObjectSceneSettings settings_;
@@ -88,6 +115,16 @@ class ObjectScene {
   // Device-local; meta, instances and the regions' initial state are written every frame
   // through the staging ring.
   gpu::Buffer meta_, instances_, regions_, lists_, distance_, material_;
+  // Cards: the atlas (uvec4s: table, then texels), each instance's light, this frame's list.
+  gpu::Buffer cardData_, cardLight_, relightList_;
+  std::unique_ptr<CardRasterizer> rasterizer_;
+  CardLightSlots slots_;
+  std::vector<std::uint32_t> meshTexels_, relight_;
+  std::vector<gpu_shared::CardGpu> cardTable_;
+  std::vector<gpu_shared::CardTexelGpu> cardTexels_;
+  double captureMilliseconds_ = 0.0;
+  std::uint64_t cardsVersion_ = ~std::uint64_t(0);
+  bool cardsUploaded_ = true;
   gpu::Buffer rays_, hits_;
   std::uint64_t atlasVersion_ = ~std::uint64_t(0);
   std::vector<gpu_shared::ObjectMeshGpu> meshes_;

@@ -1,5 +1,7 @@
 #include "gi/object_scene_cpu.h"
 
+#include "shaders/shared/color_codec.h"
+
 namespace sdfstream {
 namespace object_detail {
 using namespace glm;
@@ -14,6 +16,10 @@ struct ObjectPasses {
   const std::uint32_t* list = nullptr;
   const float* dist = nullptr;
   const glm::uvec2* mat = nullptr;
+  const CardGpu* cards = nullptr;
+  const CardTexelGpu* cardTexels = nullptr;  // indexed from the table's start, as on the GPU
+  std::uint32_t cardTableWords = 0;
+  const std::uint32_t* cardLight = nullptr;
 
 #define SDF_PRECISE
 #define OBJ_FRAME (*framePtr)
@@ -23,12 +29,26 @@ struct ObjectPasses {
 #define OBJ_LIST(i) list[i]
 #define OBJ_DIST(i) dist[i]
 #define OBJ_MAT(i) mat[i]
+#define OBJ_CARD(i) cards[i]
+#define OBJ_CARD_TEXEL(i) cardTexels[(i)-cardTableWords]
+#define OBJ_CARD_LIGHT(i) cardLight[i]
+#include "shaders/card_lookup.glsl"
+#include "shaders/card_math.glsl"
 #include "shaders/object_trace.glsl"
 #undef SDF_PRECISE
 };
 
-ObjectTraceHit toHit(const ObjectPasses::ObjectHit& h) {
+ObjectTraceHit toHit(ObjectPasses& p, const ObjectPasses::ObjectHit& h, glm::vec3 o, glm::vec3 d) {
   ObjectTraceHit out{};
+  out.cardLight = 0u;
+  out.cardWeight = glm::floatBitsToUint(0.0f);
+  out.cardTexel = kNoCardLight;
+  if (h.t >= 0.0f && p.cardLight) {
+    const ObjectPasses::CardLookup card = p.cardLookup(h.instance, o + d * h.t, h.normal);
+    out.cardLight = packRgb9e5(card.radiance);
+    out.cardWeight = glm::floatBitsToUint(card.weight);
+    out.cardTexel = card.texel;
+  }
   out.normalT = vec4(h.normal, h.t);
   out.instance = h.instance;
   out.albedo = h.albedo;
@@ -55,6 +75,16 @@ ObjectPasses passesOf(const ObjectAtlasData& atlas, const ObjectFrameData& frame
   p.dist = atlas.distance.data();
   p.mat = atlas.material.data();
   return p;
+}
+
+void bindCards(ObjectPasses& p, const std::vector<gs::CardGpu>& table,
+               const std::vector<gs::CardTexelGpu>& texels,
+               const std::vector<std::uint32_t>& light) {
+  if (table.empty()) return;
+  p.cards = table.data();
+  p.cardTexels = texels.data();
+  p.cardTableWords = std::uint32_t(table.size()) * 4u;
+  p.cardLight = light.data();
 }
 }  // namespace
 
@@ -101,16 +131,29 @@ bool ObjectSceneCpu::wakes(glm::vec3 stackPoint, std::uint32_t cascade) const {
   return p.objMovedNear(stackPoint, cascade);
 }
 
+void ObjectSceneCpu::setCards(std::vector<gs::CardGpu> table, std::vector<gs::CardTexelGpu> texels,
+                              std::vector<std::uint32_t> light,
+                              std::span<const std::uint32_t> instanceLightBases) {
+  cardTable_ = std::move(table);
+  cardTexels_ = std::move(texels);
+  cardLight_ = std::move(light);
+  for (std::size_t i = 0; i < frame_.instances.size() && i < instanceLightBases.size(); ++i)
+    frame_.instances[i].info.w = instanceLightBases[i];
+}
+
 gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray) const {
   ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
-  return object_detail::toHit(p.objTraceRegions(glm::vec3(ray.originTMin), glm::vec3(ray.dirTMax),
-                                                ray.originTMin.w, ray.dirTMax.w, 0u));
+  bindCards(p, cardTable_, cardTexels_, cardLight_);
+  const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
+  return object_detail::toHit(p, p.objTraceRegions(o, d, ray.originTMin.w, ray.dirTMax.w, 0u), o,
+                              d);
 }
 
 gs::ObjectTraceHit ObjectSceneCpu::traceAll(const gs::TraceRay& ray) const {
   ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
-  return object_detail::toHit(p.objTraceAll(glm::vec3(ray.originTMin), glm::vec3(ray.dirTMax),
-                                            ray.originTMin.w, ray.dirTMax.w));
+  bindCards(p, cardTable_, cardTexels_, cardLight_);
+  const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
+  return object_detail::toHit(p, p.objTraceAll(o, d, ray.originTMin.w, ray.dirTMax.w), o, d);
 }
 
 }  // namespace sdfstream

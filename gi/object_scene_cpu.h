@@ -5,9 +5,11 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gi/object_frame.h"
+#include "shaders/shared/card_layout.h"
 #include "shaders/shared/sdf_layout.h"
 
 namespace sdfstream {
@@ -33,12 +35,22 @@ class ObjectSceneCpu {
 
   const ObjectFrameData& frame() const { return frame_; }
 
+  // The cards the traces read their hits' light from (shaders/card_lookup.glsl): the card table
+  // and texels (as ObjectScene::cardTable / cardTexels), the card light, and each instance's
+  // light base (ObjectInstanceGpu::info.w, in frame() order). Without them hits carry no light.
+  void setCards(std::vector<gpu_shared::CardGpu> table,
+                std::vector<gpu_shared::CardTexelGpu> texels, std::vector<std::uint32_t> light,
+                std::span<const std::uint32_t> instanceLightBases);
+
  private:
   ObjectAtlasData atlas_;
   ObjectFrameData frame_;
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start into flat_
   std::vector<std::uint32_t> flat_;
+  std::vector<gpu_shared::CardGpu> cardTable_;
+  std::vector<gpu_shared::CardTexelGpu> cardTexels_;
+  std::vector<std::uint32_t> cardLight_;
 };
 
 }  // namespace sdfstream

@@ -6,7 +6,7 @@
 namespace sdfstream::probe {
 namespace {
 using gpu_shared::ProbePushConstants;
-constexpr std::uint32_t kBindings = 28;  // 22 probe + 6 object (probe_bindings.glsl)
+constexpr std::uint32_t kBindings = 30;  // 22 probe + 8 object (probe_bindings.glsl)
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {

@@ -104,7 +104,7 @@ class ProbeField {
   gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   const ObjectScene* objects_ = nullptr;
-  NoObjectsBindings noObjects_;  // bound at 22-27 when there are no objects
+  NoObjectsBindings noObjects_;  // bound at 22-29 when there are no objects
   ProbeFieldStats stats_;
   friend class ::sdfstream::GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_;

@@ -38,7 +38,7 @@ ObjectLibrary::ObjectLibrary(ObjectSdfSettings settings, std::filesystem::path c
 std::uint32_t ObjectLibrary::add(std::string name, const TriangleScene& mesh) {
   if (meshes_.size() >= std::size_t(UINT32_MAX)) throw std::length_error("ObjectLibrary full");
   ObjectSdf sdf = loadOrBuild(mesh);
-  meshes_.push_back({std::move(name), std::move(sdf)});
+  meshes_.push_back({std::move(name), std::move(sdf), mesh});
   ++version_;
   return std::uint32_t(meshes_.size() - 1);
 }

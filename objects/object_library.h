@@ -49,6 +49,8 @@ class ObjectLibrary {
   // i < size(), else std::out_of_range.
   const ObjectSdf& mesh(std::uint32_t i) const { return meshes_.at(i).sdf; }
   const std::string& name(std::uint32_t i) const { return meshes_.at(i).name; }
+  // The triangles mesh i was built from (object space): what its cards are captured from.
+  const TriangleScene& triangles(std::uint32_t i) const { return meshes_.at(i).triangles; }
   // First mesh with this name, if any (lets spreadObjects reuse its primitives across calls).
   std::optional<std::uint32_t> find(std::string_view name) const;
   // Increments on every add, so the GPU atlas knows to re-upload.
@@ -60,6 +62,7 @@ class ObjectLibrary {
   struct Entry {
     std::string name;
     ObjectSdf sdf;
+    TriangleScene triangles;
   };
   ObjectSdf loadOrBuild(const TriangleScene& mesh);
 

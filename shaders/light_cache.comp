@@ -12,7 +12,7 @@
 // value is lightCacheCellRadiance's, as before: only the order of work changed.
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
 // 2 light atlas (written), 3 page tables, 4 distance atlas, 5 albedo atlas, 6 emission atlas,
-// 7 cascade params (as trace_stack.comp), 8-13 moving objects (object_bindings.glsl).
+// 7 cascade params (as trace_stack.comp), 8-15 moving objects (object_bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -38,7 +38,7 @@ layout(push_constant) uniform Push { LightCachePushConstants pc; };
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #define LIGHT_AT(i) lights[i]
-// Moving objects block shadow rays (bindings 8-13, gi/object_scene.h; zero instances when none).
+// Moving objects block shadow rays (bindings 8-15, gi/object_scene.h; zero instances when none).
 #define OBJ_BINDING_BASE 8
 #include "shaders/object_bindings.glsl"
 #include "shaders/sdf_trace.glsl"

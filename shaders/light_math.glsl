@@ -200,8 +200,11 @@ LightShadowRay lightShadowRay(GpuLight l, vec3 origin) {
   return r;
 }
 
-vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxSteps, float hitEpsilon,
-                     uint cascadeCount) {
+// As lightIrradiance, with the shadow ray starting at least minOffset (cascade-0 voxels) off
+// the surface: a moving object's card texel (card_light.glsl) starts two of its own grid voxels
+// out, so its own SDF does not shadow it.
+vec3 lightIrradianceOffset(GpuLight l, vec3 p0, vec3 n, float minOffset, float voxelSize0,
+                           uint maxSteps, float hitEpsilon, uint cascadeCount) {
   uint type = uint(l.positionType.w + 0.5f);
   vec3 lightPos = vec3(l.positionType);
   vec3 toLight = normalize(vec3(l.direction));
@@ -229,7 +232,7 @@ vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxStep
   if (l.shape.w > 0.5f && cascadeCount > 0u) {
     uint c = lightFinestCascade(p0, cascadeCount);
     float voxel = SDF_CASCADE(c < cascadeCount ? c : cascadeCount - 1u).offsetScale.w;
-    SDF_PRECISE vec3 origin = p0 + n * (0.5f * voxel);
+    SDF_PRECISE vec3 origin = p0 + n * max(0.5f * voxel, minOffset);
     LightShadowRay ray = lightShadowRay(l, origin);
     if (ray.tMax <= 0.0f) return vec3(0.0f);
     scalar *= sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, maxSteps, hitEpsilon,
@@ -242,6 +245,11 @@ vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxStep
 #endif
   }
   return vec3(l.colorIntensity) * scalar;
+}
+
+vec3 lightIrradiance(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint maxSteps, float hitEpsilon,
+                     uint cascadeCount) {
+  return lightIrradianceOffset(l, p0, n, 0.0f, voxelSize0, maxSteps, hitEpsilon, cascadeCount);
 }
 
 // Cascade-space page coordinate (0..15 per axis) held by toroidal page-table entry `entry`

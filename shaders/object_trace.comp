@@ -1,8 +1,9 @@
 #version 450
 // Traces rays against the moving objects only (gi/object_scene.h, ObjectScene::trace): through
 // the macro-region lists (mode 0) or against every instance (mode 1, the brute-force peer of the
-// tests and the stress benchmark's naive mode). Bindings 0-5: object buffers
-// (object_bindings.glsl); 6 rays (TraceRay, stack space); 7 hits (ObjectTraceHit).
+// tests and the stress benchmark's naive mode), and reads each hit's light from its instance's
+// cards (card_lookup.glsl). Bindings 0-7: object buffers (object_bindings.glsl); 8 rays
+// (TraceRay, stack space); 9 hits (ObjectTraceHit).
 #extension GL_GOOGLE_include_directive : require
 
 #define SDF_PRECISE precise
@@ -10,12 +11,15 @@
 #include "shaders/object_bindings.glsl"
 #include "shaders/shared/sdf_layout.h"
 
-layout(std430, binding = 6) readonly buffer Rays { TraceRay rays[]; };
-layout(std430, binding = 7) writeonly buffer Hits { ObjectTraceHit hits[]; };
+layout(std430, binding = 8) readonly buffer Rays { TraceRay rays[]; };
+layout(std430, binding = 9) writeonly buffer Hits { ObjectTraceHit hits[]; };
 
 layout(push_constant) uniform Push { ObjectTracePush pc; };
 
+#include "shaders/shared/color_codec.h"
 #include "shaders/object_trace.glsl"
+#include "shaders/card_math.glsl"
+#include "shaders/card_lookup.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -34,8 +38,14 @@ void main() {
   out_.emission = h.emission;
   out_.steps = h.steps;
   out_.tried = h.instancesTried;
-  out_.pad0 = 0u;
-  out_.pad1 = 0u;
-  out_.pad2 = 0u;
+  out_.cardLight = 0u;
+  out_.cardWeight = floatBitsToUint(0.0);
+  out_.cardTexel = kNoCardLight;
+  if (h.t >= 0.0) {
+    CardLookup card = cardLookup(h.instance, o + d * h.t, h.normal);
+    out_.cardLight = packRgb9e5(card.radiance);
+    out_.cardWeight = floatBitsToUint(card.weight);
+    out_.cardTexel = card.texel;
+  }
   hits[id] = out_;
 }

@@ -32,7 +32,7 @@ layout(std430, binding = 19) writeonly buffer Results { vec4 results[]; };
 layout(std430, binding = 20) buffer DispatchArgs { uint dispatchArgs[]; };
 layout(std430, binding = 21) buffer RayDirs { vec4 rayDirs[]; };
 
-// Moving objects (gi/object_scene.h): bindings 22-27; a frame without objects binds the probe
+// Moving objects (gi/object_scene.h): bindings 22-29; a frame without objects binds the probe
 // field's placeholders and leaves kProbeOptionObjects clear.
 #define OBJ_BINDING_BASE 22
 #include "shaders/object_bindings.glsl"

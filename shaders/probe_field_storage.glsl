@@ -12,6 +12,8 @@
 #include "shaders/sdf_trace.glsl"
 #ifdef OBJ_FRAME  // moving objects: GLSL passes only (probe_bindings.glsl binds them)
 #include "shaders/object_trace.glsl"
+#include "shaders/card_math.glsl"
+#include "shaders/card_lookup.glsl"
 #endif
 #include "shaders/probe_math.glsl"
 #include "shaders/light_math.glsl"

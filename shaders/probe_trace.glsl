@@ -90,20 +90,23 @@ vec4 probeShadeRay(ProbeFrame f, ProbeVolume v, vec3 o, vec3 dir, ProbeRayHit h)
 }
 
 #ifdef OBJ_FRAME
-// A probe ray that hit a moving object first. Until cards exist (issue 7 item 6) the object is
-// shaded from its material and the probes: emission + albedo/π · E(hit, n) of the previous
-// update (bounce gain applied), with no direct light of its own (docs/DECISIONS.md). Backfaces
-// (a probe inside or touching an object) count as in probeShadeRay.
+// A probe ray that hit a moving object first: its direct light and emission come from the
+// instance's cards (card_lookup.glsl; GS slides b, "Storing lighting information"), its indirect
+// light from the probes as for static hits: cards + albedo · bounceGain · E(hit, n) / π. Where no
+// card saw the hit (or the instance has none) it falls back to emission + the probes' term, the
+// shading before cards. Backfaces (a probe inside or touching an object) count as in
+// probeShadeRay.
 vec4 probeShadeObjectHit(ProbeFrame f, ProbeVolume v, vec3 o, vec3 dir, ObjectHit oh) {
   float maxDepth = v.blend.z;
   bool backface = dot(oh.normal, dir) > 0.0f;
   float depth = probeRayDepth(oh.t, true, backface, maxDepth, v.visibility.z);
   if (backface) return vec4(0.0f, 0.0f, 0.0f, -depth);
   vec3 albedo = probeSrgbToLinear(vec3(unpackAlbedo(oh.albedo)));
-  vec3 emission = unpackRgb9e5(oh.emission);
   vec3 hitPos = o + dir * oh.t;
+  CardLookup card = cardLookup(oh.instance, hitPos, oh.normal);
+  vec3 direct = card.weight > 0.0f ? card.radiance : unpackRgb9e5(oh.emission);
   vec3 indirect = probeFieldIrradiance(f, hitPos, oh.normal, -dir, false, -1);
-  return vec4(emission + albedo * indirect * (f.skyZenith.w * 0.3183098861837907f), depth);
+  return vec4(direct + albedo * indirect * (f.skyZenith.w * 0.3183098861837907f), depth);
 }
 #endif
 

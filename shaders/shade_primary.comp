@@ -3,7 +3,7 @@
 // with the CPU reference): one invocation per camera ray, spread over rows of 64 x 16384 threads.
 // Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 distance atlas, 4 albedo atlas,
 // 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance,
-// 9-14 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none).
+// 9-16 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"

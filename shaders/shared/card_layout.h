@@ -23,6 +23,9 @@ using glm::unpackSnorm2x16;
 #endif
 
 SDF_CONST uint kCardsPerMesh = 6;
+// A card texel holds the light of a hit when its stored depth is within this many object-grid
+// voxels of the hit's (GS slides b: texels of another surface in front or behind are rejected).
+SDF_CONST float kCardDepthTolerance = 2.0f;
 
 // One card of a mesh (object space).
 struct CardGpu {

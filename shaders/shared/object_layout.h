@@ -46,17 +46,21 @@ struct ObjectInstanceGpu {
                           // singular value of stackFromGrid's 3×3), so grid distance × stepScale
                           // never overshoots the surface in stack space
   vec4 boundsMax;         // xyz: AABB max; w: bounding radius in stack voxels (size rule)
-  uvec4 info;             // x: mesh index; y: kObjectFlag* bits; z: the user's object id; w: 0
+  uvec4 info;             // x: mesh index; y: kObjectFlag* bits; z: the user's object id;
+                          // w: first texel of this instance's card light (OBJ_CARD_LIGHT), or
+                          // kNoCardLight (no cards: shaded from material and probes alone)
 };
+
+SDF_CONST uint kNoCardLight = 0xffffffffu;
 
 SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) this frame
 
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
-  uint count;   // instances listed
-  uint start;   // first entry in OBJ_LIST
-  uint moved;   // nonzero: some wake bit below is set
-  uint cursor;  // fill pass scratch
+  uint count;                       // instances listed
+  uint start;                       // first entry in OBJ_LIST
+  uint moved;                       // nonzero: some wake bit below is set
+  uint cursor;                      // fill pass scratch
   uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)
   // Sub-cells (same bits) within wake distance of an instance that moved, appeared or vanished
   // this frame (old and new poses; host-built, gi/object_frame.h): a probe there turns vigilant.
@@ -71,9 +75,9 @@ struct ObjectFrameGpu {
                                           // w: its region edge in stack voxels (16 · 2^c)
   vec4 boundsMin;  // xyz: stack-space AABB of every instance (empty when none); w: 0
   vec4 boundsMax;  // rays search objects only where they cross it
-  vec4 params;  // x: size rule, the smallest bounding radius in voxels of cascade c an object
-                // needs to be listed in c > 0 (0 lists every object everywhere); y: hit epsilon
-                // in grid voxels; z: max sphere-tracing steps per object segment; w: 0
+  vec4 params;     // x: size rule, the smallest bounding radius in voxels of cascade c an object
+                   // needs to be listed in c > 0 (0 lists every object everywhere); y: hit epsilon
+                   // in grid voxels; z: max sphere-tracing steps per object segment; w: 0
 };
 
 // Push constants of object_regions.comp (count / scan / fill share one layout).
@@ -90,11 +94,11 @@ struct ObjectTraceHit {
   uint instance;
   uint albedo;
   uint emission;
-  uint steps;  // sphere-tracing steps over every instance tried
-  uint tried;  // instance segments traced
-  uint pad0;
-  uint pad1;
-  uint pad2;
+  uint steps;       // sphere-tracing steps over every instance tried
+  uint tried;       // instance segments traced
+  uint cardLight;   // RGB9E5: the hit's light read from its instance's cards (card_lookup.glsl)
+  uint cardWeight;  // float bits: the accepted cards' normal weight (0: no card saw the hit)
+  uint cardTexel;   // the first accepted card texel's index (kNoCardLight: none)
 };
 
 struct ObjectTracePush {

@@ -1,0 +1,88 @@
+#include "gi/card_light_slots.h"
+
+#include <algorithm>
+
+namespace sdfstream {
+
+namespace gs = gpu_shared;
+
+std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
+                                                  std::span<const std::uint32_t> meshTexels,
+                                                  bool relightAll, std::uint32_t budget,
+                                                  std::uint64_t capacityTexels) {
+  ++frame_;
+  stats_ = {};
+  if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
+  if (relightAll)
+    for (auto& [id, block] : blocks_) block.litFrame = 0;
+  // Keys: 0 for moved or never lit, else the frame of the last relight (older first).
+  struct Candidate {
+    std::uint64_t key;
+    std::uint32_t index;
+  };
+  // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
+  // free list first, so this frame's newcomers can take them.
+  for (const gs::ObjectInstanceGpu& inst : instances) {
+    auto it = blocks_.find(inst.info.z);
+    if (it != blocks_.end() && it->second.mesh == inst.info.x) it->second.seenFrame = frame_;
+  }
+  for (auto it = blocks_.begin(); it != blocks_.end();) {
+    if (it->second.seenFrame != frame_) {
+      free_[it->second.mesh].push_back(it->second.base);
+      it = blocks_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::vector<Candidate> candidates;
+  candidates.reserve(instances.size());
+  for (std::uint32_t i = 0; i < instances.size(); ++i) {
+    gs::ObjectInstanceGpu& inst = instances[i];
+    inst.info.w = gs::kNoCardLight;
+    const std::uint32_t mesh = inst.info.x;
+    const std::uint32_t texels = mesh < meshTexels.size() ? meshTexels[mesh] : 0u;
+    if (texels == 0) continue;
+    auto it = blocks_.find(inst.info.z);
+    if (it == blocks_.end()) {
+      Block block;
+      block.mesh = mesh;
+      block.seenFrame = frame_;
+      if (!free_[mesh].empty()) {
+        block.base = free_[mesh].back();
+        free_[mesh].pop_back();
+      } else if (end_ + texels <= capacityTexels && end_ + texels < gs::kNoCardLight) {
+        block.base = std::uint32_t(end_);
+        end_ += texels;
+      } else {
+        ++stats_.overBudget;
+        continue;
+      }
+      it = blocks_.emplace(inst.info.z, block).first;
+    }
+    const Block& block = it->second;
+    inst.info.w = block.base;
+    ++stats_.withCards;
+    stats_.liveTexels += texels;
+    const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
+    candidates.push_back({moved ? 0u : block.litFrame, i});
+  }
+  const std::size_t take = std::min<std::size_t>(budget, candidates.size());
+  auto byKey = [](const Candidate& a, const Candidate& b) {
+    return a.key != b.key ? a.key < b.key : a.index < b.index;
+  };
+  if (take < candidates.size())
+    std::nth_element(candidates.begin(), candidates.begin() + take, candidates.end(), byKey);
+  std::vector<std::uint32_t> relight;
+  relight.reserve(take);
+  for (std::size_t k = 0; k < take; ++k) relight.push_back(candidates[k].index);
+  std::sort(relight.begin(), relight.end());
+  for (std::uint32_t i : relight) blocks_[instances[i].info.z].litFrame = frame_;
+  for (const Candidate& c : candidates) {
+    const std::uint64_t lit = blocks_[instances[c.index].info.z].litFrame;
+    stats_.maxStaleFrames = std::max(stats_.maxStaleFrames, lit == 0 ? frame_ : frame_ - lit);
+  }
+  stats_.relit = std::uint32_t(relight.size());
+  return relight;
+}
+
+}  // namespace sdfstream

@@ -1,0 +1,57 @@
+// Where each instance's card light lives and which instances are relit this frame (host side of
+// the card light, shaders/card_light.comp). An instance's light takes one texel per card texel
+// of its mesh, in one block at ObjectInstanceGpu::info.w. Blocks are kept per instance id across
+// frames (the light persists and is only relit within a budget), and freed blocks go to a free
+// list per mesh: a later instance of the same mesh takes one back whole, so the same churn of
+// meshes never grows the atlas (no fragmentation drift), and the high-water mark is bounded by
+// the most instances of each mesh alive at once.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "shaders/shared/object_layout.h"
+
+namespace sdfstream {
+
+class CardLightSlots {
+ public:
+  struct Stats {
+    std::uint32_t relit = 0;           // instances in this frame's relight list
+    std::uint32_t withCards = 0;       // instances with a light block
+    std::uint32_t overBudget = 0;      // instances left without cards by the memory cap
+    std::uint64_t maxStaleFrames = 0;  // frames since the longest-unlit instance's last relight
+    std::uint64_t liveTexels = 0;      // texels of the blocks in use
+  };
+
+  // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id):
+  // sets info.w (block base, or kNoCardLight when the mesh has no cards or the cap of
+  // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
+  // `instances`) to relight: moved or never lit first, then the longest unlit, at most `budget`.
+  // relightAll (the lights changed) marks every block unlit first. meshTexels[m]: texels of
+  // mesh m's cards (0: none).
+  std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,
+                                    std::span<const std::uint32_t> meshTexels, bool relightAll,
+                                    std::uint32_t budget, std::uint64_t capacityTexels);
+
+  // Texels the atlas must hold: every block ever handed out (the high-water mark).
+  std::uint64_t endTexel() const { return end_; }
+  const Stats& stats() const { return stats_; }
+
+ private:
+  struct Block {
+    std::uint32_t mesh = 0;
+    std::uint32_t base = 0;
+    std::uint64_t litFrame = 0;  // 0: never lit (or the lights changed since)
+    std::uint64_t seenFrame = 0;
+  };
+  std::unordered_map<std::uint32_t, Block> blocks_;  // by instance id
+  std::vector<std::vector<std::uint32_t>> free_;     // per mesh: bases of freed blocks
+  std::uint64_t end_ = 0;
+  std::uint64_t frame_ = 0;
+  Stats stats_;
+};
+
+}  // namespace sdfstream

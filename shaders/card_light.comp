@@ -1,0 +1,62 @@
+#version 450
+// Card light pass (gi/object_scene.h, ObjectScene card light; math in card_light.glsl): one
+// workgroup per listed instance (y = index into the relight list), its threads over the texels
+// of the instance's mesh's six cards; each texel's light is written as RGB9E5 at the instance's
+// card-light base (ObjectInstanceGpu::info.w) + the texel's mesh index. Instances not listed keep
+// the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
+// Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
+// as object binding 15), 3 page tables, 4 distance atlas, 5 albedo atlas, 6 emission atlas,
+// 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl).
+#extension GL_GOOGLE_include_directive : require
+
+#include "shaders/shared/sdf_layout.h"
+#include "shaders/shared/light_layout.h"
+#include "shaders/shared/color_codec.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer RelightList { uint relightList[]; };
+layout(std430, binding = 1) readonly buffer Lights { GpuLight lights[]; };
+layout(std430, binding = 2) writeonly buffer CardLightOut { uint cardLightOut[]; };
+layout(std430, binding = 3) readonly buffer PageTable { uint pageTable[]; };
+layout(std430, binding = 4) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
+layout(std430, binding = 5) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
+layout(std430, binding = 6) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
+layout(std430, binding = 7) readonly buffer Cascades { CascadeTraceParams cascades[]; };
+
+layout(push_constant) uniform Push { LightCachePushConstants pc; };
+
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#define LIGHT_AT(i) lights[i]
+#define OBJ_BINDING_BASE 8
+#include "shaders/object_bindings.glsl"
+#include "shaders/sdf_trace.glsl"
+#include "shaders/object_trace.glsl"
+#include "shaders/light_math.glsl"
+#include "shaders/card_math.glsl"
+#include "shaders/card_light.glsl"
+
+void main() {
+  uint item = gl_WorkGroupID.y;
+  if (item >= pc.counts.x) return;
+  uint instance = relightList[item];
+  ObjectInstanceGpu inst = OBJ_INSTANCE(instance);
+  uint base = inst.info.w;
+  if (base == kNoCardLight) return;
+  ObjectMeshGpu m = OBJ_MESH(inst.info.x);
+  for (uint k = 0u; k < kCardsPerMesh; ++k) {
+    CardGpu c = OBJ_CARD(inst.info.x * kCardsPerMesh + k);
+    uint count = c.info.z * c.info.w;
+    for (uint t = gl_LocalInvocationID.x; t < count; t += gl_WorkGroupSize.x) {
+      uint local = c.first.x + t;
+      CardTexelGpu texel = OBJ_CARD_TEXEL(c.first.y + local);
+      cardLightOut[base + local] = packRgb9e5(
+          cardTexelRadiance(inst, m, c, t, texel, pc.counts.y, pc.params.x, pc.counts.w,
+                            pc.params.y, pc.counts.z));
+    }
+  }
+}

@@ -1,0 +1,254 @@
+// Cards of moving objects in the GI (cards/, card_light.comp, card_lookup.glsl): the card light
+// pass lights each texel with the sun as the analytic Lambert term, shadowed by another object;
+// the lookup a ray's hit makes equals the CPU reference texel for texel; the light blocks are
+// allocated without drift under churn and relit moved-first within the budget.
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "gi/card_light_slots.h"
+#include "gi/gpu_stack_scene.h"
+#include "gi/light_cache.h"
+#include "gi/object_scene.h"
+#include "gi/object_scene_cpu.h"
+#include "tests/dynamic/object_scenes.h"
+#include "tests/lights/light_scenes.h"
+#include "tests/support/analytic_stack.h"
+#include "tests/support/gpu_test.h"
+
+namespace sdfstream {
+namespace {
+namespace gs = gpu_shared;
+
+class ObjectCardTest : public test::GpuTest {};
+
+test::AnalyticStack floorStack() {
+  return test::AnalyticStack(
+      1, [](glm::vec3 p, float) { return test::sdFloor(p); },
+      [](glm::vec3) { return test::uniformMaterial(test::rgba8(200, 200, 200), 0u); });
+}
+
+// The instance's card texels as (texel, light) pairs, face by face.
+struct InstanceCards {
+  std::vector<gs::CardTexelGpu> texels[6];
+  std::vector<glm::vec3> light[6];
+};
+
+InstanceCards instanceCards(const ObjectScene& scene, std::uint32_t instance) {
+  InstanceCards out;
+  const std::vector<std::uint32_t> light = scene.downloadCardLight();
+  const gs::ObjectInstanceGpu& inst = scene.frame().instances.at(instance);
+  const std::uint32_t tableWords = std::uint32_t(scene.cardTable().size()) * 4u;
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    const gs::CardGpu& c = scene.cardTable()[inst.info.x * 6 + k];
+    for (std::uint32_t t = 0; t < c.info.z * c.info.w; ++t) {
+      const std::uint32_t local = c.first.x + t;
+      out.texels[k].push_back(scene.cardTexels()[c.first.y - tableWords + local]);
+      out.light[k].push_back(gs::unpackRgb9e5(light.at(inst.info.w + local)));
+    }
+  }
+  return out;
+}
+
+TEST_F(ObjectCardTest, CardLightIsTheSunsLambertTermAndAnotherObjectShadowsIt) {
+  test::AnalyticStack stack = floorStack();
+  const CascadeStackImage& image = stack.image;
+  GpuStackScene scene(ctx());
+  scene.uploadAll(image);
+  LightCache cache(ctx());
+  const glm::vec3 towardsSun = glm::normalize(glm::vec3(0.4f, 1.0f, 0.2f));
+  const std::vector<gs::GpuLight> lights = {test::sunLight(towardsSun, 3.0f)};
+  const gs::GpuSky sky{};
+  const glm::vec4 red(0.8f, 0.1f, 0.1f, 1.0f);
+  ObjectLibrary library(ObjectSdfSettings{16, 32, 0.0, 2});
+  const std::uint32_t box = library.addBox({4.0f, 4.0f, 4.0f}, red);
+  InstanceSet instances;
+  ObjectTransform pose;
+  pose.translation = glm::dvec3(64.0, 50.0, 64.0);  // 8 m cube, 6 m above the floor
+  instances.add(box, pose);
+  ObjectScene objects(ctx());
+  auto frame = [&] {
+    objects.update(library, instances, image);
+    cache.update(scene, lights, sky, {}, image.voxelSize0, &objects);
+    instances.endFrame();
+  };
+  frame();
+  ASSERT_EQ(objects.cardRelightCount(), 1u);
+  const InstanceCards lit = instanceCards(objects, 0);
+  // Every texel of a face sees that face; its light is albedo/π · 3 · max(0, n·L).
+  std::size_t checked = 0;
+  float worst = 0.0f;
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    glm::vec3 n(0.0f);
+    n[k / 2] = k % 2 == 0 ? 1.0f : -1.0f;
+    for (std::size_t t = 0; t < lit.texels[k].size(); ++t) {
+      const gs::CardTexelGpu& texel = lit.texels[k][t];
+      ASSERT_GE(texel.depth, 0.0f);
+      EXPECT_GT(glm::dot(gs::cardUnpackNormal(texel.normal), n), 0.9999f);
+      const glm::vec3 albedo(test::srgbToLinear(float(texel.albedo & 255u) / 255.0f),
+                             test::srgbToLinear(float((texel.albedo >> 8) & 255u) / 255.0f),
+                             test::srgbToLinear(float((texel.albedo >> 16) & 255u) / 255.0f));
+      const glm::vec3 expected =
+          albedo * (3.0f * std::max(0.0f, glm::dot(n, towardsSun)) / 3.14159265f);
+      const glm::vec3 got = lit.light[k][t];
+      for (int ch = 0; ch < 3; ++ch) {
+        const float err = std::abs(got[ch] - expected[ch]);
+        worst = std::max(worst, err / std::max(expected[ch], 0.01f));
+        EXPECT_LE(err, 0.01f * expected[ch] + 1e-3f) << "card " << k << " texel " << t;
+      }
+      ++checked;
+    }
+  }
+  std::printf("[figures] card light vs Lambert: %zu texels, worst relative error %.4f\n", checked,
+              worst);
+
+  // An 8 x 2 x 8 m slab 15 m above the cube's top face, shifted towards the sun so its shadow
+  // covers the whole top face (+y card, k = 2) and leaves the +x face (k = 0) mostly lit.
+  ObjectTransform slabPose;
+  slabPose.translation = glm::dvec3(64.0 + 6.0, 70.0, 64.0 + 3.0);
+  slabPose.scale = glm::vec3(1.0f, 0.25f, 1.0f);
+  instances.add(box, slabPose);
+  frame();
+  const InstanceCards shadowed = instanceCards(objects, 0);
+  double before = 0.0, after = 0.0;
+  for (std::size_t t = 0; t < shadowed.light[2].size(); ++t) {
+    before += lit.light[2][t].x;
+    after += shadowed.light[2][t].x;
+  }
+  std::printf("[figures] top face under the slab: %.4f of its sunlit light\n", after / before);
+  EXPECT_GT(before, 0.0);
+  EXPECT_LT(after, 0.01 * before);
+  // The sides the slab does not shade keep their light (the +x face, k = 0).
+  double side = 0.0, sideBefore = 0.0;
+  for (std::size_t t = 0; t < shadowed.light[0].size(); ++t) {
+    side += shadowed.light[0][t].x;
+    sideBefore += lit.light[0][t].x;
+  }
+  EXPECT_GT(side, 0.5 * sideBefore);
+}
+
+TEST_F(ObjectCardTest, LookupOfEveryHitEqualsTheCpuReference) {
+  test::AnalyticStack stack = floorStack();
+  const CascadeStackImage& image = stack.image;
+  GpuStackScene scene(ctx());
+  scene.uploadAll(image);
+  LightCache cache(ctx());
+  const std::vector<gs::GpuLight> lights = {
+      test::sunLight(glm::vec3(0.3f, 1.0f, -0.4f), 3.0f),
+      test::pointLight(glm::vec3(60.0f, 70.0f, 70.0f), 2000.0f)};
+  test::RandomObjects objects;
+  objects.addRandom(image, 60, 20.0, 11);
+  ObjectScene gpu(ctx());
+  gpu.update(objects.library, objects.instances, image);
+  cache.update(scene, lights, gs::GpuSky{}, {}, image.voxelSize0, &gpu);
+
+  ObjectSceneCpu cpu(objects.library, objects.instances, image);
+  std::vector<std::uint32_t> bases;
+  for (const gs::ObjectInstanceGpu& inst : gpu.frame().instances) bases.push_back(inst.info.w);
+  cpu.setCards(gpu.cardTable(), gpu.cardTexels(), gpu.downloadCardLight(), bases);
+
+  // Rays from random points towards random instances' centres.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const auto& inst = gpu.frame().instances;
+  std::vector<gs::TraceRay> rays;
+  for (int r = 0; r < 4000; ++r) {
+    const gs::ObjectInstanceGpu& target = inst[std::size_t(r) % inst.size()];
+    const glm::vec3 centre = 0.5f * (glm::vec3(target.boundsMin) + glm::vec3(target.boundsMax));
+    const glm::vec3 o = centre + 30.0f * glm::vec3(u(rng), u(rng), u(rng));
+    const glm::vec3 d = glm::normalize(centre + 2.0f * glm::vec3(u(rng), u(rng), u(rng)) - o);
+    gs::TraceRay ray{};
+    ray.originTMin = glm::vec4(o, 0.0f);
+    ray.dirTMax = glm::vec4(d, 200.0f);
+    rays.push_back(ray);
+  }
+  const auto hits = gpu.trace(rays, false);
+  std::size_t objectHits = 0, withCards = 0, texelDiffer = 0, lightDiffer = 0;
+  for (std::size_t r = 0; r < rays.size(); ++r) {
+    const gs::ObjectTraceHit ref = cpu.traceRegions(rays[r]);
+    if (hits[r].normalT.w < 0.0f || ref.normalT.w < 0.0f) continue;
+    if (hits[r].instance != ref.instance) continue;  // traversal agreement is tested elsewhere
+    ++objectHits;
+    withCards += ref.cardTexel != gs::kNoCardLight ? 1 : 0;
+    texelDiffer += hits[r].cardTexel != ref.cardTexel ? 1 : 0;
+    lightDiffer += hits[r].cardLight != ref.cardLight ? 1 : 0;
+  }
+  std::printf(
+      "[figures] card lookup: %zu object hits, %zu read cards, %zu texel and %zu light "
+      "differences against the CPU reference\n",
+      objectHits, withCards, texelDiffer, lightDiffer);
+  EXPECT_GT(objectHits, 1000u);
+  EXPECT_GT(withCards, objectHits * 9 / 10);  // almost every hit finds a card texel
+  EXPECT_EQ(texelDiffer, 0u);
+  EXPECT_LE(lightDiffer, objectHits / 200);  // rounding where a blend straddles RGB9E5 steps
+}
+
+std::vector<gs::ObjectInstanceGpu> instancesOf(std::span<const std::uint32_t> ids,
+                                               std::uint32_t mesh, bool moved) {
+  std::vector<gs::ObjectInstanceGpu> out;
+  for (std::uint32_t id : ids) {
+    gs::ObjectInstanceGpu g{};
+    g.info = glm::uvec4(mesh, moved ? gs::kObjectFlagMoved : 0u, id, 0u);
+    out.push_back(g);
+  }
+  return out;
+}
+
+TEST(CardLightSlots, BlocksPersistAreReusedUnderChurnAndRespectTheCap) {
+  CardLightSlots slots;
+  const std::uint32_t texels[2] = {100, 40};
+  std::vector<std::uint32_t> ids = {1, 2, 3};
+  auto frame = instancesOf(ids, 0, false);
+  auto relit = slots.assign(frame, texels, false, 1000, 1u << 20);
+  EXPECT_EQ(relit.size(), 3u);
+  EXPECT_EQ(slots.endTexel(), 300u);
+  const std::uint32_t baseOf2 = frame[1].info.w;
+  // Churn: every frame one instance of mesh 0 leaves and a new one arrives; the atlas never grows.
+  std::uint32_t next = 4;
+  for (int f = 0; f < 200; ++f) {
+    ids.erase(ids.begin() + (ids[0] == 2 ? 1 : 0));  // keep id 2 forever
+    ids.push_back(next++);
+    frame = instancesOf(ids, 0, false);
+    slots.assign(frame, texels, false, 1000, 1u << 20);
+    EXPECT_EQ(slots.endTexel(), 300u);
+  }
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (ids[i] == 2) EXPECT_EQ(frame[i].info.w, baseOf2);  // a kept instance keeps its block
+  // The cap: a fourth mesh-0 instance does not fit in 300 texels and gets no cards.
+  ids.push_back(next++);
+  frame = instancesOf(ids, 0, false);
+  slots.assign(frame, texels, false, 1000, 300);
+  EXPECT_EQ(frame.back().info.w, gs::kNoCardLight);
+  EXPECT_EQ(slots.stats().overBudget, 1u);
+  // A mesh without cards never gets a block.
+  auto noCards = instancesOf(std::vector<std::uint32_t>{99}, 5, false);
+  slots.assign(noCards, texels, false, 1000, 1u << 20);
+  EXPECT_EQ(noCards[0].info.w, gs::kNoCardLight);
+}
+
+TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
+  CardLightSlots slots;
+  const std::uint32_t texels[1] = {10};
+  std::vector<std::uint32_t> ids(10);
+  for (std::uint32_t i = 0; i < 10; ++i) ids[i] = i;
+  auto frame = instancesOf(ids, 0, false);
+  EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20).size(), 4u);  // 0..3, never lit
+  EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20),
+            (std::vector<std::uint32_t>{4, 5, 6, 7}));
+  frame[9].info.y = gs::kObjectFlagMoved;
+  // 8 never lit and 9 moved come first, then the oldest lit (0 and 1, lit in the first frame).
+  EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20),
+            (std::vector<std::uint32_t>{0, 1, 8, 9}));
+  EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+  // The lights changed: everything is stale again and the budget still bounds the work.
+  frame[9].info.y = 0;
+  EXPECT_EQ(slots.assign(frame, texels, true, 4, 1u << 20).size(), 4u);
+  // Round robin: with 10 instances and 4 per frame nothing waits more than 3 frames.
+  for (int f = 0; f < 12; ++f) slots.assign(frame, texels, false, 4, 1u << 20);
+  EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+}
+
+}  // namespace
+}  // namespace sdfstream
