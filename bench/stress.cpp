@@ -92,7 +92,9 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
   {
     // A fresh GiSystem per run: every run starts from the same state, so the rays traced of the
     // static-only and the 0-object runs must agree frame by frame.
-    GiSystem gi(b.context, b.settings, std::uint32_t(b.stack.cascadeCount()));
+    GiSettings settings = b.settings;
+    if (mode == Mode::RegionsNoCards) settings.objects.cards = false;
+    GiSystem gi(b.context, settings, std::uint32_t(b.stack.cascadeCount()));
     InstanceSet instances;
     ScriptedMotion motion;
     if (stress::hasObjects(mode)) {
@@ -122,6 +124,14 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       }
       for (const gpu::PassTiming& t : gi.probes().lastTimings())
         if (t.name == "probe_trace") m.traceMs += t.milliseconds;
+      for (const gpu::PassTiming& t : s.passes)
+        if (t.name == "light_cache_cards") m.cardLightMs += t.milliseconds;
+      if (stress::hasObjects(mode)) {
+        const CardLightSlots::Stats& cards = gi.objects().cardStats();
+        m.cardRelit = cards.relit;
+        m.cardStaleFrames = cards.maxStaleFrames;
+        m.cardMiB = double(gi.objects().cardBytes()) / double(1 << 20);
+      }
       m.probeMs = s.probeMilliseconds;
       m.lightMs = s.lightMilliseconds;
       m.pagesRelit = s.pagesRelit;
@@ -260,7 +270,7 @@ stress::StressSetup describeSetup(const StressOptions& o, const gpu::Context& co
 std::vector<std::pair<Mode, std::uint32_t>> runPlan(const std::vector<std::uint32_t>& counts) {
   std::vector<std::pair<Mode, std::uint32_t>> plan = {{Mode::Static, 0u}};
   for (std::uint32_t n : counts) {
-    plan.insert(plan.end(), {{Mode::Regions, n}, {Mode::Naive, n}});
+    plan.insert(plan.end(), {{Mode::Regions, n}, {Mode::RegionsNoCards, n}, {Mode::Naive, n}});
     if (n == 0) plan.push_back({Mode::StaticRepeat, 0u});
   }
   if (counts.front() != 0) plan.insert(plan.begin() + 1, {Mode::StaticRepeat, 0u});
@@ -269,6 +279,8 @@ std::vector<std::pair<Mode, std::uint32_t>> runPlan(const std::vector<std::uint3
 
 // Why a planned run is skipped ("" = it is made).
 std::string skipReason(const StressOptions& o, Mode mode, std::uint32_t n) {
+  if (mode == Mode::RegionsNoCards)
+    return n == 0 ? "no objects (the regions run's work)" : o.cardsPeer ? "" : "--no-cards-peer";
   if (mode != Mode::Naive) return "";
   if (n == 0) return "no objects (nothing to test: the regions run's work)";
   if (!o.naive) return "--no-naive";

@@ -76,26 +76,28 @@ void writeResultsCsv(const fs::path& file, const std::vector<StressRun>& runs) {
       "region_us_per_instance,probe_ms,probe_p99_ms,cost_ms,cost_vs_static,probe_trace_ms,"
       "trace_extra_ms,light_ms,pages_relit,object_pages_relit,probes_updated,rays_traced,"
       "rays_traced_total,object_rays,object_hits,object_steps,steps_per_object_ray,host_ms,"
-      "nonfinite_texels,irradiance_checks,validation_messages,wall_s\n";
+      "nonfinite_texels,irradiance_checks,validation_messages,wall_s,card_light_ms,card_relit,"
+      "card_stale_frames,card_mib\n";
   char row[1024];
   for (const StressRun& r : runs) {
     if (!r.skipped.empty()) {
       csv += std::to_string(r.objects) + "," + modeName(r.mode) + ",\"" + r.skipped + "\"" +
-             std::string(27, ',') + "\n";
+             std::string(31, ',') + "\n";
       continue;
     }
     const RunSummary s = summarize(r);
     std::snprintf(
         row, sizeof row,
         "%u,%s,,%zu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.1f,%.1f,%.1f,"
-        "%.1f,%llu,%.1f,%.1f,%.1f,%.3f,%.3f,%llu,%d,%llu,%.2f\n",
+        "%.1f,%llu,%.1f,%.1f,%.1f,%.3f,%.3f,%llu,%d,%llu,%.2f,%.4f,%.1f,%.1f,%.3f\n",
         r.objects, modeName(r.mode), r.frames.size(), s.regionCountMs, s.regionScanMs,
         s.regionFillMs, s.regionMs, s.regionUsPerInstance, s.probeMs, s.probeP99Ms, s.costMs,
         base.probeMs > 0 ? s.costMs / base.probeMs : 0.0, s.traceMs, s.traceMs - base.traceMs,
         s.lightMs, s.pagesRelit, s.objectPagesRelit, s.probesUpdated, s.raysTraced,
         (unsigned long long)s.raysTracedTotal, s.objectRays, s.objectHits, s.objectSteps,
         s.stepsPerObjectRay, s.hostMs, (unsigned long long)r.nonFiniteTexels, r.irradianceChecks,
-        (unsigned long long)r.validationMessages, r.wallSeconds);
+        (unsigned long long)r.validationMessages, r.wallSeconds, s.cardLightMs, s.cardRelit,
+        s.cardStaleFrames, s.cardMiB);
     csv += row;
   }
   writeText(file, csv);
@@ -359,6 +361,8 @@ const char* modeName(Mode mode) {
       return "regions";
     case Mode::Naive:
       return "naive";
+    case Mode::RegionsNoCards:
+      return "regions-no-cards";
   }
   return "?";
 }
@@ -403,6 +407,10 @@ RunSummary summarize(const StressRun& run) {
   }
   s.stepsPerObjectRay =
       s.objectRaysTotal ? double(s.objectStepsTotal) / double(s.objectRaysTotal) : 0.0;
+  s.cardLightMs = medianOf(run, [](const StressFrame& f) { return f.cardLightMs; });
+  s.cardRelit = medianOf(run, [](const StressFrame& f) { return f.cardRelit; });
+  s.cardStaleFrames = medianOf(run, [](const StressFrame& f) { return double(f.cardStaleFrames); });
+  s.cardMiB = medianOf(run, [](const StressFrame& f) { return f.cardMiB; });
   return s;
 }
 
@@ -547,6 +555,32 @@ std::string stressTable(const std::vector<StressRun>& runs) {
   return md;
 }
 
+// Cards on vs off per count: what the card light costs and holds, and what it changes.
+std::string cardsSection(const std::vector<StressRun>& runs) {
+  std::string md =
+      "\n## Cards\n\nPer object count, the regions run (cards on) against the same run with "
+      "the cards off (regions-no-cards). *card light ms*: the light_cache_cards pass (part of "
+      "the light cache); *relit*: instances whose card light it recomputed (median per frame); "
+      "*stale*: frames since the longest-unlit instance's last relight (median); *MiB*: card "
+      "atlas + card light on the device.\n\n"
+      "| objects | regions + probe, cards on | cards off | card light ms | relit | stale | MiB |\n"
+      "|---|---|---|---|---|---|---|\n";
+  char row[512];
+  bool any = false;
+  for (const StressRun& r : runs) {
+    if (r.mode != Mode::Regions || r.objects == 0 || !measured(&r)) continue;
+    const RunSummary on = summarize(r);
+    const StressRun* off = findRun(runs, Mode::RegionsNoCards, r.objects);
+    const std::string offText = measured(off) ? format("%.3f", summarize(*off).costMs) : "skipped";
+    std::snprintf(row, sizeof row, "| %s | %.3f | %s | %.4f | %.0f | %.0f | %.2f |\n",
+                  withCommas(r.objects).c_str(), on.costMs, offText.c_str(), on.cardLightMs,
+                  on.cardRelit, on.cardStaleFrames, on.cardMiB);
+    md += row;
+    any = true;
+  }
+  return any ? md : std::string();
+}
+
 void writeStressReport(const fs::path& dir, const StressSetup& setup,
                        const std::vector<StressRun>& runs, const StressChecks& checks) {
   writeResultsCsv(dir / "results.csv", runs);
@@ -616,6 +650,7 @@ void writeStressReport(const fs::path& dir, const StressSetup& setup,
   md += goalsSection(runs);
   md += scalingSection(runs);
   md += hostSection(runs);
+  md += cardsSection(runs);
   md +=
       "\nNaive mode tests every probe ray against every instance over the ray's whole "
       "length: also beyond the cascades that have region lists, where the regions walk sees no "

@@ -14,13 +14,17 @@ namespace sdfstream::bench::stress {
 
 // How probe rays meet the moving objects in a run.
 enum class Mode {
-  Static,        // setObjects(nullptr): the static-only probe update, the baseline
-  StaticRepeat,  // the same again: the noise floor of the comparisons with the baseline
-  Regions,       // objects traced through the macro-region lists (the design)
-  Naive,         // every probe ray tests every instance (ObjectScene::setNaiveTraversal)
+  Static,          // setObjects(nullptr): the static-only probe update, the baseline
+  StaticRepeat,    // the same again: the noise floor of the comparisons with the baseline
+  Regions,         // objects traced through the macro-region lists (the design)
+  Naive,           // every probe ray tests every instance (ObjectScene::setNaiveTraversal)
+  RegionsNoCards,  // regions with the cards off: object hits without their own direct light
 };
-const char* modeName(Mode mode);  // "static", "static-repeat", "regions", "naive"
-inline bool hasObjects(Mode mode) { return mode == Mode::Regions || mode == Mode::Naive; }
+// "static", "static-repeat", "regions", "naive", "regions-no-cards"
+const char* modeName(Mode mode);
+inline bool hasObjects(Mode mode) {
+  return mode == Mode::Regions || mode == Mode::Naive || mode == Mode::RegionsNoCards;
+}
 
 // One measured frame. GPU times are timestamp queries around each pass (milliseconds).
 struct StressFrame {
@@ -29,6 +33,12 @@ struct StressFrame {
   double probeMs = 0.0;  // every probe pass of the update
   double traceMs = 0.0;  // its probe_trace pass
   double lightMs = 0.0;  // light cache (relights dirty pages, object-shadowed pages included)
+  // Cards: the card light pass (light_cache_cards, part of lightMs), instances it relit, the
+  // frames since the longest-unlit instance was lit, and the card atlas + light in MiB.
+  double cardLightMs = 0.0;
+  std::uint32_t cardRelit = 0;
+  std::uint64_t cardStaleFrames = 0;
+  double cardMiB = 0.0;
   std::uint32_t pagesRelit = 0, objectPagesRelit = 0;
   std::uint32_t probesUpdated = 0, raysTraced = 0, raysCached = 0;
   std::uint32_t objectRays = 0, objectHits = 0, objectSteps = 0;
@@ -67,6 +77,7 @@ struct RunSummary {
   double objectRays = 0, objectHits = 0, objectSteps = 0;
   std::uint64_t raysTracedTotal = 0, objectRaysTotal = 0, objectStepsTotal = 0;
   double stepsPerObjectRay = 0;  // objectStepsTotal / objectRaysTotal
+  double cardLightMs = 0, cardRelit = 0, cardStaleFrames = 0, cardMiB = 0;
 };
 RunSummary summarize(const StressRun& run);
 

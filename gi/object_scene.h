@@ -86,6 +86,8 @@ class ObjectScene {
   const std::vector<gpu_shared::CardGpu>& cardTable() const { return cardTable_; }
   const std::vector<gpu_shared::CardTexelGpu>& cardTexels() const { return cardTexels_; }
   std::vector<std::uint32_t> downloadCardLight() const;
+  // Device bytes of the card atlas and the card light (what cards cost in memory).
+  std::size_t cardBytes() const { return cardData_.size() + cardLight_.size(); }
   // GPU milliseconds of the last card capture (every mesh of the library), 0 if none.
   double lastCaptureMilliseconds() const { return captureMilliseconds_; }
 

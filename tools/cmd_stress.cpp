@@ -61,7 +61,8 @@ std::optional<glm::dvec3> parseCamera(const Args& args) {
 
 const char* kHelp =
     "usage: sdfstream stress WORLD [--objects LIST] [--frames N] [--warmup N] [--out DIR]\n"
-    "                        [--seed S] [--no-naive] [--naive-max N] [--device NAME]\n"
+    "                        [--seed S] [--no-naive] [--naive-max N] [--no-cards-peer]\n"
+    "                        [--device NAME]\n"
     "                        [--validation] [options]\n"
     "\n"
     "The moving-object stress benchmark (issue 7), headless. Streams the world pack WORLD around\n"
@@ -70,7 +71,8 @@ const char* kHelp =
     "static-only first (no object scene; repeated once, after the 0-object run, as the noise\n"
     "floor), then per object count N the same N boxes and spheres spread over an area around\n"
     "the camera, moved by scripted orbits, falls and loops every frame, traced through the\n"
-    "macro-region lists (regions) and then by testing every probe ray against every object\n"
+    "macro-region lists (regions), the same with the objects' cards off (regions-no-cards: hits\n"
+    "carry no direct light of their own), and by testing every probe ray against every object\n"
     "(naive). Records per frame the region passes' GPU time (count, scan,\n"
     "fill), the probe update and its probe_trace pass, the light cache and the pages it relit,\n"
     "rays traced and the object rays, hits and steps, and the host's CPU time by part (motion,\n"
@@ -93,6 +95,7 @@ const char* kHelp =
     "  --seed S           object placement and motion seed (default 1)\n"
     "  --no-naive         skip the naive runs\n"
     "  --naive-max N      skip the naive runs above N objects (default: no limit)\n"
+    "  --no-cards-peer    skip the runs with the cards off\n"
     "  --cascades N       cascades (default 6, at most the pack's LOD count)\n"
     "  --camera x,y,z     camera position (default: above the centre of the world's bounds,\n"
     "                     2 m over the surface below it); it looks along -z, slightly down\n"
@@ -114,7 +117,7 @@ int runStress(int argc, char** argv) {
             {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
              "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays",
              "--probe-budget", "--sun", "--sky"},
-            {"--help", "-h", "--no-naive", "--validation"});
+            {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -129,6 +132,7 @@ int runStress(int argc, char** argv) {
   o.out = args.value("--out").value_or(o.out.string());
   o.seed = std::uint64_t(args.integer("--seed", 1, 0, std::numeric_limits<int>::max()));
   o.naive = !args.has("--no-naive");
+  o.cardsPeer = !args.has("--no-cards-peer");
   o.naiveMax = args.value("--naive-max")
                    ? std::uint32_t(args.integer("--naive-max", 0, 0, int(kMaxObjects)))
                    : kMaxObjects;

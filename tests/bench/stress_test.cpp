@@ -1,9 +1,9 @@
 // sdfstream stress end to end on the smallest run that still writes every output: assimp's
 // BoxTextured imported as a 2-LOD pack, 2 cascades, a tiny probe ray budget, a few frames per
-// run, object counts 0, 5 and 20 (static-only, regions and naive runs). Checks what the issue's
-// benchmark must show on any device: it runs, no NaN reaches the probes, the 0-object run does
-// exactly the static-only run's work, and the summary carries the goal line. Bad arguments get
-// one line and no output directory.
+// run, object counts 0, 5 and 20 (static-only, regions, regions without cards and naive runs).
+// Checks what the benchmark must show on any device: it runs, no NaN reaches the probes,
+// the 0-object run does exactly the static-only run's work, and the summary carries the goal
+// line. Bad arguments get one line and no output directory.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -86,11 +86,13 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
     EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
 
   auto rows = readResults(out / "results.csv");
-  for (const char* key : {"0/static", "0/static-repeat", "0/regions", "0/naive", "5/regions",
-                          "5/naive", "20/regions", "20/naive"})
+  for (const char* key :
+       {"0/static", "0/static-repeat", "0/regions", "0/naive", "5/regions", "5/naive", "20/regions",
+        "20/naive", "0/regions-no-cards", "5/regions-no-cards", "20/regions-no-cards"})
     ASSERT_TRUE(rows.count(key)) << key << "\n" << test::readText(out / "results.csv");
   EXPECT_EQ(rows["0/static"]["frames"], "6");
   EXPECT_NE(rows["0/naive"]["skipped"], "");  // nothing to test without objects
+  EXPECT_NE(rows["0/regions-no-cards"]["skipped"], "");
   // The 0-object run does the static-only work: no region pass, no ray searching objects, and
   // the same rays traced. (Exactly the same here: in a few frames at this budget the probe
   // selection's one thread-order-dependent choice, probeSelectPass's overshoot, has not come into
@@ -107,13 +109,19 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
     EXPECT_EQ(row.at("validation_messages"), "0") << key;
     EXPECT_GE(std::stoi(row.at("irradiance_checks")), 1) << key;
   }
-  // With objects the region passes run and rays search them, in both modes.
-  for (const char* key : {"20/regions", "20/naive"}) {
+  // With objects the region passes run and rays search them, in every mode.
+  for (const char* key : {"20/regions", "20/naive", "20/regions-no-cards"}) {
     EXPECT_GT(std::stod(rows[key]["region_ms"]), 0.0) << key;
     EXPECT_GT(std::stod(rows[key]["object_rays"]), 0.0) << key;
   }
-  // Every measured frame is in frames.csv: 6 for each of the 7 runs made.
-  EXPECT_EQ(lineCount(test::readText(out / "frames.csv")), 1 + 7 * 6);
+  // Cards: on in the regions run (atlas and light on the device, instances relit), off in its
+  // peer; nothing without objects.
+  EXPECT_GT(std::stod(rows["20/regions"]["card_mib"]), 0.0);
+  EXPECT_GT(std::stod(rows["20/regions"]["card_relit"]), 0.0);
+  EXPECT_EQ(std::stod(rows["20/regions-no-cards"]["card_relit"]), 0.0);
+  EXPECT_EQ(std::stod(rows["0/regions"]["card_relit"]), 0.0);
+  // Every measured frame is in frames.csv: 6 for each of the 9 runs made.
+  EXPECT_EQ(lineCount(test::readText(out / "frames.csv")), 1 + 9 * 6);
 
   const std::string md = test::readText(out / "summary.md");
   EXPECT_NE(md.find("Goal (10,000 spread objects cost <= 2x the static-only probe update): "
@@ -128,6 +136,7 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
   EXPECT_NE(md.find("Non-finite probe irradiance texels: **none**"), std::string::npos) << md;
   EXPECT_NE(md.find("- Device: "), std::string::npos) << md;
   EXPECT_NE(md.find("## Host time"), std::string::npos) << md;  // host time by part
+  EXPECT_NE(md.find("## Cards"), std::string::npos) << md;
 }
 
 TEST(Stress, BadArgumentsFailWithOneLine) {
