@@ -52,7 +52,8 @@ std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, i
 std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
                                                   const glm::vec3& origin) {
   glm::dvec3 forward = glm::normalize(camera.target - camera.position);
-  glm::dvec3 upHint = std::abs(glm::dot(forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
+  glm::dvec3 upHint =
+      std::abs(glm::dot(forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
   glm::dvec3 right = glm::normalize(glm::cross(forward, upHint));
   glm::dvec3 up = glm::cross(right, forward);
   double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);

@@ -1,10 +1,15 @@
 #include "gi/card_light_slots.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace sdfstream {
 
 namespace gs = gpu_shared;
+
+namespace {
+constexpr std::int64_t kMovedBoost = 8;
+}  // namespace
 
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
                                                   std::span<const std::uint32_t> meshTexels,
@@ -15,9 +20,11 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
   if (relightAll)
     for (auto& [id, block] : blocks_) block.litFrame = 0;
-  // Keys: 0 for moved or never lit, else the frame of the last relight (older first).
+  // Keys, smaller first: never lit, then the frame of the last relight, a moved instance
+  // counting kMovedBoost frames older (so moves go first, yet when everything moves every
+  // instance still takes its turn: the oldest first).
   struct Candidate {
-    std::uint64_t key;
+    std::int64_t key;
     std::uint32_t index;
   };
   // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
@@ -64,7 +71,10 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     ++stats_.withCards;
     stats_.liveTexels += texels;
     const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
-    candidates.push_back({moved ? 0u : block.litFrame, i});
+    const std::int64_t key = block.litFrame == 0
+                                 ? std::numeric_limits<std::int64_t>::min()
+                                 : std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
+    candidates.push_back({key, i});
   }
   const std::size_t take = std::min<std::size_t>(budget, candidates.size());
   auto byKey = [](const Candidate& a, const Candidate& b) {

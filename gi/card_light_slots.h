@@ -29,7 +29,8 @@ class CardLightSlots {
   // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id):
   // sets info.w (block base, or kNoCardLight when the mesh has no cards or the cap of
   // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
-  // `instances`) to relight: moved or never lit first, then the longest unlit, at most `budget`.
+  // `instances`) to relight, at most `budget`: never lit first, then the longest unlit, a moved
+  // instance counting 8 frames staler (moves first, but no instance starves when all move).
   // relightAll (the lights changed) marks every block unlit first. meshTexels[m]: texels of
   // mesh m's cards (0: none).
   std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,

@@ -44,7 +44,7 @@ void GiSystem::setObjects(const ObjectLibrary* library, InstanceSet* instances) 
   objectLibrary_ = library;
   instances_ = library ? instances : nullptr;
   probes_.setObjects(instances_ ? &objects_ : nullptr);
-  if (instances_) objects_.prepareCards(*library);
+  if (instances_) objects_.prepareCards(*library);  // now only with a fixed cardTexelWorld
 }
 
 GiFrameStats GiSystem::update(const CascadeStack& stack, std::span<const std::uint32_t> dirtySlots,
@@ -90,7 +90,8 @@ GiFrameRecording GiSystem::record(VkCommandBuffer commandBuffer, const CascadeSt
 GiFrameStats GiSystem::runBlocking(const SceneUpload& upload, const CascadeStackImage& image,
                                    const SceneLights& lights, probe::ProbeFrameInputs inputs,
                                    std::uint64_t frame) {
-  if (instances_) objects_.prepareCards(*objectLibrary_);  // before the frame's batch opens
+  // Before the frame's batch opens.
+  if (instances_) objects_.prepareCards(*objectLibrary_, image.voxelSize0);
   staging_.beginFrame();
   harvestCompleted();
   FrameInFlight f{context_.beginBatch(kFramePasses), staging_.currentSlot(), {}};
@@ -104,7 +105,7 @@ GiFrameRecording GiSystem::runRecorded(VkCommandBuffer commandBuffer, const Scen
                                        const CascadeStackImage& image, const SceneLights& lights,
                                        probe::ProbeFrameInputs inputs, std::uint64_t frame) {
   // New meshes' cards are captured with a submission of our own (at load time, not per frame).
-  if (instances_) objects_.prepareCards(*objectLibrary_);
+  if (instances_) objects_.prepareCards(*objectLibrary_, image.voxelSize0);
   staging_.beginFrame();  // waits only when the slot's earlier frame is still running
   harvestCompleted();     // before this frame's copies overwrite the slot's readback
   FrameInFlight f{context_.recordInto(commandBuffer, kFramePasses), staging_.currentSlot(), {}};

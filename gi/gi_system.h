@@ -95,8 +95,9 @@ class GiSystem {
   // instances, rebuilds the macro-region lists, relights the pages their moves shadow or
   // unshadow, traces them in the probe update, and consumes the set's change record
   // (instances->endFrame()). Both must outlive their use here. The library's meshes get their
-  // cards captured here (one GPU submission and wait per mesh, at load time); meshes added later
-  // are captured at the start of the next frame, before its commands are recorded.
+  // cards captured (one GPU submission and wait per mesh) here when
+  // settings.objects.cardTexelWorld is set, else at the start of the first frame, before its
+  // commands are recorded; meshes added later at the start of the next frame.
   void setObjects(const ObjectLibrary* library, InstanceSet* instances);
   const ObjectScene& objects() const { return objects_; }
   ObjectScene& objects() { return objects_; }

@@ -10,7 +10,8 @@ constexpr std::size_t kDistWords = gpu_shared::kBrickDistanceWords;
 constexpr std::size_t kMatWords = gpu_shared::kBrickMaterialCount;
 
 void ensure(gpu::Context& ctx, gpu::Buffer& buffer, std::size_t bytes) {
-  if (buffer.size() < bytes || !buffer) buffer = gpu::Buffer(ctx, bytes, gpu::BufferKind::DeviceLocal);
+  if (buffer.size() < bytes || !buffer)
+    buffer = gpu::Buffer(ctx, bytes, gpu::BufferKind::DeviceLocal);
 }
 
 template <typename T>
@@ -113,9 +114,8 @@ std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing
 }
 
 void GpuStackScene::uploadAll(const CascadeStackImage& image) {
-  blocking(context_, [&](gpu::CommandBatch& b, gpu::StagingRing& s) {
-    return recordUploadAll(b, s, image);
-  });
+  blocking(context_,
+           [&](gpu::CommandBatch& b, gpu::StagingRing& s) { return recordUploadAll(b, s, image); });
 }
 
 std::size_t GpuStackScene::sync(const CascadeStack& stack, std::span<const std::uint32_t> dirty) {

@@ -17,8 +17,9 @@ gpu::Buffer deviceBufferWith(gpu::Context& ctx, const std::vector<T>& data) {
 GpuTracer::GpuTracer(gpu::Context& context)
     : context_(context),
       batch_(context),
-      pipeline_(context, gpu::ShaderId::trace_rays,
-                gpu::PipelineDesc{6, sizeof(gpu_shared::TracePushConstants), glm::uvec3(64, 1, 1)}) {}
+      pipeline_(
+          context, gpu::ShaderId::trace_rays,
+          gpu::PipelineDesc{6, sizeof(gpu_shared::TracePushConstants), glm::uvec3(64, 1, 1)}) {}
 
 void GpuTracer::setCascade(const CascadeImage& cascade) {
   // Move-assignment hands the previous buffers to the deferred-deletion queue.
@@ -44,7 +45,8 @@ std::vector<gpu_shared::TraceHit> GpuTracer::trace(std::span<const gpu_shared::T
   gpu::CommandBatch batch = context_.beginBatch();
   batch_.recordUpload(batch);
   batch.dispatch("trace", pipeline_,
-                 {&batch_.rays(), &batch_.hits(), &pageTable_, &distanceAtlas_, &albedoAtlas_, &emissionAtlas_},
+                 {&batch_.rays(), &batch_.hits(), &pageTable_, &distanceAtlas_, &albedoAtlas_,
+                  &emissionAtlas_},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch_.recordReadback(batch);
   batch.submitAndWait();

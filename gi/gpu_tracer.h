@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "gi/cpu_tracer.h"
-#include "gpu/buffer.h"
-#include "gpu/context.h"
 #include "gi/ray_batch.h"
+#include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
+#include "gpu/context.h"
 
 namespace sdfstream {
 

@@ -39,6 +39,11 @@ struct ObjectSceneSettings {
   // probe rays that hit the instance. Off: object hits take emission + the probes' light only.
   bool cards = true;
   CardSettings cardLayout;
+  // World units per card texel (the slides' one texel per voxel of the finest cascade): 0 takes
+  // the cascade-0 voxel of the first frame that sees the meshes, which then captures them (one
+  // GPU submission); > 0 lets GiSystem::setObjects capture at once (an engine recording its own
+  // frames then sees no submission by sdfstream in them). Never finer than the object's SDF.
+  double cardTexelWorld = 0.0;
   // Instances whose card light is recomputed per frame at most: moved or never lit first, then
   // the longest unlit (so with N instances nothing is staler than N / budget frames).
   std::uint32_t cardRelightBudget = 256;

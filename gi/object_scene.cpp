@@ -65,8 +65,12 @@ void ObjectScene::recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& stagin
   atlasVersion_ = library.version();
 }
 
-void ObjectScene::prepareCards(const ObjectLibrary& library) {
+void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) {
   if (cardsVersion_ == library.version()) return;
+  // Texels of about one cascade-0 voxel (world units = object units at scale 1), never finer
+  // than the object's SDF: unknown until a stack is seen, unless the settings fix it.
+  const double texelWorld = settings_.cardTexelWorld > 0.0 ? settings_.cardTexelWorld : voxelSize0;
+  if (!(texelWorld > 0.0)) return;
   cardsVersion_ = library.version();
   cardsUploaded_ = false;
   const std::uint32_t meshes = std::uint32_t(library.size());
@@ -87,7 +91,8 @@ void ObjectScene::prepareCards(const ObjectLibrary& library) {
   for (std::uint32_t m = 0; settings_.cards && m < meshes; ++m) {
     const ObjectSdf& sdf = library.mesh(m);
     const TriangleScene& triangles = library.triangles(m);
-    const MeshCards cards = layoutCards(sdf.meshMin, sdf.meshMax, sdf.voxel, settings_.cardLayout);
+    const MeshCards cards = layoutCards(
+        sdf.meshMin, sdf.meshMax, std::max(sdf.voxel, float(texelWorld)), settings_.cardLayout);
     const std::vector<CardVisibility> seen = rasterizer_->capture(triangles, cards);
     captureMilliseconds_ += rasterizer_->lastMilliseconds();
     const std::vector<gs::CardTexelGpu> texels = resolveCardTexels(triangles, cards, seen);
@@ -146,7 +151,7 @@ std::vector<std::uint32_t> ObjectScene::downloadCardLight() const {
 
 void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instances,
                          const CascadeStackImage& stack) {
-  prepareCards(library);  // its own submission, before this batch opens
+  prepareCards(library, stack.voxelSize0);  // its own submission, before this batch opens
   gpu::StagingRing staging(context_, 1);
   gpu::CommandBatch batch = context_.beginBatch(3);
   staging.beginFrame();

@@ -49,9 +49,11 @@ class ObjectScene {
               const CascadeStackImage& stack);
   // Captures the cards of the library's meshes when it changed since the last call (a blocking
   // GPU submission of its own, so call it while no batch of this Context is recording: before a
-  // frame's batch begins; GiSystem does). record() uploads them with its next frame; meshes added
-  // since the last call have no cards until then (their hits are shaded without).
-  void prepareCards(const ObjectLibrary& library);
+  // frame's batch begins; GiSystem does). Card texels are about settings().cardTexelWorld world
+  // units, or voxelSize0 (the stack's cascade-0 voxel) when that is 0; with neither known
+  // (voxelSize0 <= 0) nothing is captured yet. record() uploads them with its next frame;
+  // meshes added since the last capture have no cards until then (shaded as without cards).
+  void prepareCards(const ObjectLibrary& library, double voxelSize0 = 0.0);
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
   // passes are named "object_regions_*" in the batch's timings. lastTimings() is not updated.
   // lightsChanged: every instance's card light is stale (relit first, within the budget).

@@ -148,10 +148,8 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants emit = push(gpu_shared::kProbeSelectModeEmit, probes);
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
   const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
-  const ProbePushConstants interior =
-      push(0, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
-  const ProbePushConstants border =
-      push(0, capacity * gpu_shared::kProbeTileTexelsPerProbe);
+  const ProbePushConstants interior = push(0, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
+  const ProbePushConstants border = push(0, capacity * gpu_shared::kProbeTileTexelsPerProbe);
 
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));

@@ -88,7 +88,8 @@ std::size_t ProbeFieldSizes::bytes() const {
 ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades) {
   ProbeFieldSizes z;
   z.probes = std::size_t(cascades) * s.probesPerVolume();
-  z.irradianceTexels = z.probes * gpu_shared::kProbeIrradianceTexels * gpu_shared::kProbeIrradianceTexels;
+  z.irradianceTexels =
+      z.probes * gpu_shared::kProbeIrradianceTexels * gpu_shared::kProbeIrradianceTexels;
   z.depthTexels = z.probes * gpu_shared::kProbeDepthTexels * gpu_shared::kProbeDepthTexels;
   z.rays = std::size_t(s.listCapacity(cascades)) * s.raysPerProbe;
   z.cacheEntries = s.hitCache ? z.probes * s.cacheRotations * s.raysPerProbe : 1;
@@ -99,7 +100,8 @@ ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw) {
   using namespace gpu_shared;
   assert(raw.size() >= kProbeStatCount);
   ProbeFieldStats s;
-  for (std::uint32_t c = 0; c < kProbeClassCount; ++c) s.classCounts[c] = raw[kProbeStatClassCounts + c];
+  for (std::uint32_t c = 0; c < kProbeClassCount; ++c)
+    s.classCounts[c] = raw[kProbeStatClassCounts + c];
   s.probesUpdated = raw[kProbeStatListCount];
   s.raysTraced = raw[kProbeStatRaysTraced];
   s.raysCached = raw[kProbeStatRaysCached];
@@ -164,7 +166,8 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
     auto local = base;
     local.probeSelectPass(f, g, gpu_shared::kProbeSelectModeCount);
   });
-  for (std::uint32_t g = 0; g < probes; ++g) base.probeSelectPass(f, g, gpu_shared::kProbeSelectModeEmit);
+  for (std::uint32_t g = 0; g < probes; ++g)
+    base.probeSelectPass(f, g, gpu_shared::kProbeSelectModeEmit);
   const std::uint32_t listed = std::min(rawStats_[gpu_shared::kProbeStatListCount], f.selection.y);
   const std::uint32_t n = settings_.raysPerProbe;
   // Trace + shade (probe_trace.comp).
@@ -176,17 +179,19 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   // Blend, then borders (probe_blend.comp, two dispatches).
   tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
     auto local = base;
-    for (std::uint32_t t = 0; t < gpu_shared::kProbeBlendTexelsPerProbe; ++t) local.probeBlendPass(f, l, t);
+    for (std::uint32_t t = 0; t < gpu_shared::kProbeBlendTexelsPerProbe; ++t)
+      local.probeBlendPass(f, l, t);
   });
   tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
     auto local = base;
-    for (std::uint32_t t = 0; t < gpu_shared::kProbeTileTexelsPerProbe; ++t) local.probeBorderPass(l, t);
+    for (std::uint32_t t = 0; t < gpu_shared::kProbeTileTexelsPerProbe; ++t)
+      local.probeBorderPass(l, t);
   });
   stats_ = decodeStats(rawStats_);
 }
 
-std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
-                                             std::span<const gpu_shared::ProbeQuery> queries) const {
+std::vector<glm::vec3> ProbeFieldCpu::sample(
+    const CascadeStackImage& stack, std::span<const gpu_shared::ProbeQuery> queries) const {
   field_detail::FieldPasses base(stack);
   base.volumes = frame_.volumes.data();
   // Sampling only reads; the pointers are non-const because the pass structs also write.
@@ -198,8 +203,8 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
     auto local = base;
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       out[i] = local.probeFieldIrradiance(frame_.constants, glm::vec3(queries[i].position),
-                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view), true,
-                                          int(queries[i].position.w) - 1);
+                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view),
+                                          true, int(queries[i].position.w) - 1);
   });
   return out;
 }

@@ -19,11 +19,11 @@ namespace sdfstream::probe {
 
 // Element counts of the field's storage for `cascades` volumes.
 struct ProbeFieldSizes {
-  std::size_t probes = 0;           // volumes x probes per volume
-  std::size_t irradianceTexels = 0; // vec4 each
-  std::size_t depthTexels = 0;      // vec2 each
-  std::size_t rays = 0;             // 2 vec4 each: result, direction (list capacity x rays)
-  std::size_t cacheEntries = 0;     // uvec2 each (probes x rotations x rays; 1 when off)
+  std::size_t probes = 0;            // volumes x probes per volume
+  std::size_t irradianceTexels = 0;  // vec4 each
+  std::size_t depthTexels = 0;       // vec2 each
+  std::size_t rays = 0;              // 2 vec4 each: result, direction (list capacity x rays)
+  std::size_t cacheEntries = 0;      // uvec2 each (probes x rotations x rays; 1 when off)
   std::size_t bytes() const;
 };
 ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades);

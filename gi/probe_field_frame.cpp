@@ -13,7 +13,8 @@ int floorMod(int a, int b) { return a - floorDiv(a, b) * b; }
 }  // namespace
 
 std::uint32_t ProbeFieldSettings::listCapacity(std::uint32_t cascades) const {
-  return std::min(cascades * probesPerVolume(), std::max(1u, rayBudget / std::max(1u, raysPerProbe)));
+  return std::min(cascades * probesPerVolume(),
+                  std::max(1u, rayBudget / std::max(1u, raysPerProbe)));
 }
 
 ProbeFieldFrameBuilder::ProbeFieldFrameBuilder(const ProbeFieldSettings& settings)
@@ -42,14 +43,16 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
     for (int k = 0; k < 3; ++k) out.rotations.push_back(glm::vec4(m[k], 0.0f));
   }
   const std::uint32_t slot = cycle ? std::uint32_t(frame % slots) : 0u;
-  const glm::mat3 rotation = cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
+  const glm::mat3 rotation =
+      cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
 
   std::vector<glm::ivec3> gridOrigins(cascades);
   std::vector<glm::dvec3> windowWorld(cascades);
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const gpu_shared::CascadeTraceParams& p = stack.params[c];
     const float scale = p.offsetScale.w;
-    const glm::ivec3 originBrick = c < stack.originBricks.size() ? stack.originBricks[c] : glm::ivec3(0);
+    const glm::ivec3 originBrick =
+        c < stack.originBricks.size() ? stack.originBricks[c] : glm::ivec3(0);
     const int sb = int(s.spacingBricks);
     const glm::ivec3 grid(floorDiv(originBrick.x, sb), floorDiv(originBrick.y, sb),
                           floorDiv(originBrick.z, sb));
@@ -59,7 +62,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
     const float spacing = 8.0f * float(sb) * scale;
 
     gpu_shared::ProbeVolume v{};
-    v.originSpacing = glm::vec4(window + glm::vec3(grid * sb - originBrick) * (8.0f * scale), spacing);
+    v.originSpacing =
+        glm::vec4(window + glm::vec3(grid * sb - originBrick) * (8.0f * scale), spacing);
     v.countsRays = glm::uvec4(n, s.raysPerProbe);
     v.scroll = glm::ivec4(floorMod(grid.x, int(n.x)), floorMod(grid.y, int(n.y)),
                           floorMod(grid.z, int(n.z)), int(c));
@@ -75,7 +79,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
     v.rayRotationCol2 = glm::vec4(rotation[2], 0.0f);
     v.blend = glm::vec4(s.irradianceHysteresis, s.depthHysteresis, s.maxDepthSpacings * spacing,
                         s.irradianceGamma);
-    v.visibility = glm::vec4(s.selfShadowBias, s.depthSharpness, s.backfaceDepthScale, s.minVariance);
+    v.visibility =
+        glm::vec4(s.selfShadowBias, s.depthSharpness, s.backfaceDepthScale, s.minVariance);
     const glm::dvec3 prev = first_ ? windowWorld[c] : windowWorld_[c];
     const glm::vec3 prevWindow((prev - stack.cascade0MinWorld) / stack.voxelSize0);
     v.prevWindow = glm::vec4(prevWindow, 128.0f * scale);
@@ -86,7 +91,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   out.pageChanged.assign(std::size_t(cascades) * 128, 0u);
   bool anyPageChanged = false;
   for (std::size_t i = 0; i < stack.pageTables.size(); ++i)
-    if (first_ || pageTables_.size() != stack.pageTables.size() || pageTables_[i] != stack.pageTables[i]) {
+    if (first_ || pageTables_.size() != stack.pageTables.size() ||
+        pageTables_[i] != stack.pageTables[i]) {
       out.pageChanged[i >> 5] |= 1u << (i & 31u);
       anyPageChanged = true;
     }
@@ -97,7 +103,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   const float cosCone = std::cos(s.viewConeDegrees * 3.14159265f / 180.0f);
   f.camera = glm::vec4(stack.toStack(in.cameraWorld), cosCone);
   const float len = glm::length(in.viewDirection);
-  f.view = glm::vec4(len > 0.0f ? in.viewDirection / len : glm::vec3(0, 0, -1), s.vigilantHysteresis);
+  f.view =
+      glm::vec4(len > 0.0f ? in.viewDirection / len : glm::vec3(0, 0, -1), s.vigilantHysteresis);
   f.counts = glm::uvec4(cascades, s.probesPerVolume(), 0u, s.rayBudget);
   std::uint32_t options = 0;
   if (s.hitCache) options |= gpu_shared::kProbeOptionHitCache;
@@ -105,7 +112,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.relocation) options |= gpu_shared::kProbeOptionRelocation;
   if (s.visibility != ProbeFieldSettings::Visibility::Chebyshev)
     options |= gpu_shared::kProbeOptionSdfVisibility;
-  if (s.visibility == ProbeFieldSettings::Visibility::Sdf) options |= gpu_shared::kProbeOptionNoChebyshev;
+  if (s.visibility == ProbeFieldSettings::Visibility::Sdf)
+    options |= gpu_shared::kProbeOptionNoChebyshev;
   if (!s.sdfVisibilityWhereUnsure) options |= gpu_shared::kProbeOptionSdfEverywhere;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
   if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
@@ -115,9 +123,9 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   f.options = glm::uvec4(options, std::uint32_t(frame), s.sleepPeriod, s.maxSteps);
   f.trace = glm::vec4(s.hitEpsilon, s.relocationMinDistance, s.sleepThreshold, s.traceDistance);
   // w: vigilant frames after a change (bits 0-7) and near a moving object (bits 8-15).
-  f.selection = glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots,
-                           std::min(s.vigilantFrames, 255u) |
-                               (std::min(s.objectVigilantFrames, 255u) << 8u));
+  f.selection =
+      glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots,
+                 std::min(s.vigilantFrames, 255u) | (std::min(s.objectVigilantFrames, 255u) << 8u));
   f.worldToStack = glm::vec4(glm::vec3(stack.cascade0MinWorld),
                              stack.voxelSize0 > 0.0 ? float(1.0 / stack.voxelSize0) : 0.0f);
 

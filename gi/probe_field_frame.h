@@ -32,7 +32,7 @@ struct ProbeFieldSettings {
   // ... and when a moving object passes near it: short, since low hysteresis is visible as
   // flicker where objects keep moving. Both at most 255.
   std::uint32_t objectVigilantFrames = 8;
-  bool adaptiveHysteresis = true;   // per-texel change heuristic (M21 Sec. 4.3)
+  bool adaptiveHysteresis = true;              // per-texel change heuristic (M21 Sec. 4.3)
   float maxDepthSpacings = 2.0f * 1.7320508f;  // depth a miss records, in probe spacings
   // Exponent of the irradiance encoding the blend works in (texel = E^(1/gamma)). 1: linear.
   // M21 Sec. 4.2 blends E^(1/5) (kProbeIrradianceGamma) to spend an 8-10-bit texel's precision on
@@ -50,23 +50,23 @@ struct ProbeFieldSettings {
   // instead (the first rule; for comparison).
   bool backfacesBlack = false;
   float minVariance = gpu_shared::kProbeMinVariance;
-  float bounceGain = 1.0f;          // multi-bounce feedback (issue 5 item 5)
-  std::uint32_t maxSteps = 256;     // sphere-tracing iterations per ray, all cascades together
-  float hitEpsilon = 0.02f;         // voxels of the cascade being traced
-  float traceDistance = 1e30f;      // probe ray tMax, cascade-0 voxels
+  float bounceGain = 1.0f;       // multi-bounce feedback (issue 5 item 5)
+  std::uint32_t maxSteps = 256;  // sphere-tracing iterations per ray, all cascades together
+  float hitEpsilon = 0.02f;      // voxels of the cascade being traced
+  float traceDistance = 1e30f;   // probe ray tMax, cascade-0 voxels
   std::uint64_t rotationSeed = 1;
-  bool hitCache = true;             // GS "Caching rays"
+  bool hitCache = true;  // GS "Caching rays"
   // Cycle the cache's rotation slots even with the cache off, so a test can compare cache on
   // and off on the very same rays (off by default: without a cache, a fresh rotation per frame
   // is the better estimator).
   bool fixedRotationCycle = false;
-  std::uint32_t cacheRotations = 4; // ray rotations cycled when the cache is on (memory: probes
-                                    // x rays x rotations x 8 bytes)
-  bool states = true;               // M21 Sec. 5 probe states
-  std::uint32_t sleepPeriod = 8;    // sleeping probes refresh every this many frames
-  float sleepThreshold = 0.05f;     // an update is "quiet" when its fresh estimate of the mean
-                                    // irradiance is within this of the stored one
-  bool relocation = true;           // SDFDDGI Sec. 4.1
+  std::uint32_t cacheRotations = 4;    // ray rotations cycled when the cache is on (memory: probes
+                                       // x rays x rotations x 8 bytes)
+  bool states = true;                  // M21 Sec. 5 probe states
+  std::uint32_t sleepPeriod = 8;       // sleeping probes refresh every this many frames
+  float sleepThreshold = 0.05f;        // an update is "quiet" when its fresh estimate of the mean
+                                       // irradiance is within this of the stored one
+  bool relocation = true;              // SDFDDGI Sec. 4.1
   float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
   enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };
   Visibility visibility = Visibility::ChebyshevAndSdf;  // sampling's visibility test
@@ -74,7 +74,7 @@ struct ProbeFieldSettings {
   // answer open (probe_sample.glsl, probeSdfVisibilityPresumed); false traces every corner.
   bool sdfVisibilityWhereUnsure = true;
   std::uint32_t rayBudget = 1u << 21;  // rays per frame (all cascades)
-  float viewConeDegrees = 60.0f;    // half-angle of the cone counted as "in view"
+  float viewConeDegrees = 60.0f;       // half-angle of the cone counted as "in view"
 
   glm::uvec3 grid() const { return glm::uvec3(16u / spacingBricks + 1u); }
   std::uint32_t probesPerVolume() const {

@@ -9,9 +9,8 @@ namespace sdfstream {
 std::vector<gpu_shared::GpuLight> toGpu(const std::vector<SceneLight>& lights,
                                         const CascadeStackImage& stack) {
   if (lights.size() > gpu_shared::kMaxLights)
-    throw std::invalid_argument("scene has " + std::to_string(lights.size()) +
-                                " lights; at most " + std::to_string(gpu_shared::kMaxLights) +
-                                " are supported");
+    throw std::invalid_argument("scene has " + std::to_string(lights.size()) + " lights; at most " +
+                                std::to_string(gpu_shared::kMaxLights) + " are supported");
   std::vector<gpu_shared::GpuLight> out;
   out.reserve(lights.size());
   for (const SceneLight& l : lights) {

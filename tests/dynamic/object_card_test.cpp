@@ -237,13 +237,18 @@ TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
   EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20).size(), 4u);  // 0..3, never lit
   EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20),
             (std::vector<std::uint32_t>{4, 5, 6, 7}));
-  frame[9].info.y = gs::kObjectFlagMoved;
-  // 8 never lit and 9 moved come first, then the oldest lit (0 and 1, lit in the first frame).
+  frame[5].info.y = gs::kObjectFlagMoved;
+  // 8 and 9, never lit, come first, then 5 (moved: lit in frame 2, counts as 8 frames older),
+  // then the oldest lit (0, lit in frame 1).
   EXPECT_EQ(slots.assign(frame, texels, false, 4, 1u << 20),
-            (std::vector<std::uint32_t>{0, 1, 8, 9}));
+            (std::vector<std::uint32_t>{0, 5, 8, 9}));
   EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+  // Everything moves every frame: the moves do not starve anyone (round robin by age).
+  for (auto& inst : frame) inst.info.y = gs::kObjectFlagMoved;
+  for (int f = 0; f < 12; ++f) slots.assign(frame, texels, false, 4, 1u << 20);
+  EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+  for (auto& inst : frame) inst.info.y = 0;
   // The lights changed: everything is stale again and the budget still bounds the work.
-  frame[9].info.y = 0;
   EXPECT_EQ(slots.assign(frame, texels, true, 4, 1u << 20).size(), 4u);
   // Round robin: with 10 instances and 4 per frame nothing waits more than 3 frames.
   for (int f = 0; f < 12; ++f) slots.assign(frame, texels, false, 4, 1u << 20);
