@@ -177,18 +177,7 @@ void CommandBatch::recordPass(std::string_view name, const ComputePipeline& pipe
   SDFSTREAM_GPU_CHECK(passNames_.size() < maxPasses_, who + "more passes than maxPasses");
   beforeCommand();
 
-  const std::uint32_t query = 2 * static_cast<std::uint32_t>(passNames_.size());
-  passNames_.emplace_back(name);
-  if (ctx_->cmdBeginLabel()) {
-    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
-    label.pLabelName = passNames_.back().c_str();
-    ctx_->cmdBeginLabel()(commandBuffer_, &label);
-  }
-  // BOTTOM_OF_PIPE for both: "when everything before has finished", so the interval covers this
-  // pass (and the barrier wait before it), not work still draining from the previous pass.
-  if (queryPool_)
-    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_, query);
-
+  const std::uint32_t query = openPass(name);
   vkCmdBindPipeline(commandBuffer_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
   if (!buffers.empty()) {
     std::vector<VkDescriptorBufferInfo> infos(buffers.size());
@@ -209,7 +198,25 @@ void CommandBatch::recordPass(std::string_view name, const ComputePipeline& pipe
     vkCmdPushConstants(commandBuffer_, pipeline.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0,
                        static_cast<std::uint32_t>(pushBytes), push);
   issue(who);
+  closePass(query);
+}
 
+std::uint32_t CommandBatch::openPass(std::string_view name) {
+  const std::uint32_t query = 2 * static_cast<std::uint32_t>(passNames_.size());
+  passNames_.emplace_back(name);
+  if (ctx_->cmdBeginLabel()) {
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = passNames_.back().c_str();
+    ctx_->cmdBeginLabel()(commandBuffer_, &label);
+  }
+  // BOTTOM_OF_PIPE for both: "when everything before has finished", so the interval covers this
+  // pass (and the barrier wait before it), not work still draining from the previous pass.
+  if (queryPool_)
+    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_, query);
+  return query;
+}
+
+void CommandBatch::closePass(std::uint32_t query) {
   if (queryPool_)
     vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_,
                         query + 1);
@@ -228,20 +235,9 @@ void CommandBatch::record(std::string_view name,
                   VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                   VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
   hasCommands_ = true;
-  const std::uint32_t query = 2 * static_cast<std::uint32_t>(passNames_.size());
-  passNames_.emplace_back(name);
-  if (ctx_->cmdBeginLabel()) {
-    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
-    label.pLabelName = passNames_.back().c_str();
-    ctx_->cmdBeginLabel()(commandBuffer_, &label);
-  }
-  if (queryPool_)
-    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_, query);
+  const std::uint32_t query = openPass(name);
   commands(commandBuffer_);
-  if (queryPool_)
-    vkCmdWriteTimestamp(commandBuffer_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queryPool_,
-                        query + 1);
-  if (ctx_->cmdEndLabel()) ctx_->cmdEndLabel()(commandBuffer_);
+  closePass(query);
 }
 
 void CommandBatch::copy(const Buffer& src, Buffer& dst, std::size_t bytes, std::size_t srcOffset,

@@ -134,6 +134,9 @@ class CommandBatch {
   void recordPass(std::string_view name, const ComputePipeline& pipeline,
                   std::span<const Buffer* const> buffers, const void* push, std::size_t pushBytes,
                   const std::function<void(const std::string&)>& issue);
+  // Names, labels and opens the timestamps of one pass (returns its first query), and closes it.
+  std::uint32_t openPass(std::string_view name);
+  void closePass(std::uint32_t query);
   void release();
 
   Context* ctx_ = nullptr;
