@@ -141,7 +141,7 @@ struct BounceResult {
   float onVsStatic = 0.0f;
 };
 
-BounceResult bounce(gpu::Context& ctx, const BoxSetup& b) {
+BounceResult bounce(gpu::Context& ctx, const BoxSetup& b, bool staticControl) {
   const TriangleScene scene = referenceScene(b);
   const PathTracer tracer(scene, sunOnly());
   std::vector<glm::vec3> positions, normals;
@@ -182,9 +182,10 @@ BounceResult bounce(gpu::Context& ctx, const BoxSetup& b) {
   BounceResult r;
   r.expected = expected;
   const std::vector<glm::vec3> on = runGi(ctx, b, BoxAs::CardsOn, 48);
-  const std::vector<glm::vec3> still = runGi(ctx, b, BoxAs::Static, 48);
   r.on = compare("cards on", on);
   r.off = compare("cards off", runGi(ctx, b, BoxAs::CardsOff, 48));
+  if (!staticControl) return r;
+  const std::vector<glm::vec3> still = runGi(ctx, b, BoxAs::Static, 48);
   r.staticBox = compare("static box", still);
   // The first column (a quarter spacing from the face) is left out: there the static box's probes
   // are relocated out of the wall while probes inside an object are turned off, a difference of
@@ -206,24 +207,29 @@ BounceResult bounce(gpu::Context& ctx, const BoxSetup& b) {
 
 // A box four probe spacings wide: the probes resolve the bounce's fall-off with distance.
 // Measured on lavapipe (48 frames): against the path tracer, cards on 0.144 mean relative error
-// (R/G 0.85 of the reference's), off 0.750 (R/G 0.60), the same box static 0.091 (R/G 0.84);
-// cards on vs static beyond the first column 0.065.
+// (R/G 0.85 of the reference's), off 0.750 (R/G 0.60). The figures test below adds the same box
+// baked into the static SDF: 0.091 (R/G 0.84), cards on within 0.065 of it beyond the first
+// column, so the rest of the gap is the probe field's (probes inside objects are off, not
+// relocated), not the cards'.
 TEST_F(ObjectCardBounce, RedBoxBouncesItsSunlightOntoTheFloor) {
-  const BounceResult r = bounce(ctx(), BoxSetup{16.0f});
+  const BounceResult r = bounce(ctx(), BoxSetup{16.0f}, false);
   EXPECT_GT(r.expected.redOverGreen, 2.0f);  // the bounce is red: the test can tell
   EXPECT_GT(r.off.meanRelativeError, 0.5f);  // without cards the bounce is missing
-  // Cards give the object what the light cache gives a static wall...
-  EXPECT_LE(r.onVsStatic, 0.08f);
-  // ...and bring the bounce within 20% of the reference (the issue asks 10%: the probe field
-  // near the face falls short, static box included).
+  // Cards bring the bounce within 20% of the reference (the issue asks 10%: the probe field near
+  // the face falls short, static box included).
   EXPECT_LE(r.on.meanRelativeError, 0.20f);
   EXPECT_NEAR(r.on.redOverGreen / r.expected.redOverGreen, 1.0f, 0.20f);
 }
 
-// Figures only (run with --gtest_also_run_disabled_tests): a box one probe spacing wide. Cards
-// triple the red bounce here too, but probes 8 m apart cannot follow a bounce that falls from
-// 0.85 to 0.19 within the box's width: the probe field's resolution, not the cards, limits it.
-TEST_F(ObjectCardBounce, DISABLED_BoxOneProbeSpacingWide) { bounce(ctx(), BoxSetup{4.0f}); }
+// Figures only (the suite's time: run with --gtest_also_run_disabled_tests): the 32 m box with
+// the static control, then a box one probe spacing wide. There cards triple the red bounce too,
+// but probes 8 m apart cannot follow a bounce that falls from 0.85 to 0.19 within the box's
+// width: the probe field's resolution, not the cards, limits it.
+TEST_F(ObjectCardBounce, DISABLED_FiguresWithTheStaticControl) {
+  const BounceResult r = bounce(ctx(), BoxSetup{16.0f}, true);
+  EXPECT_LE(r.onVsStatic, 0.08f);  // cards give the object what the light cache gives a wall
+  bounce(ctx(), BoxSetup{4.0f}, true);
+}
 
 }  // namespace
 }  // namespace sdfstream
