@@ -119,15 +119,18 @@ class LightCache {
 
   // Relights the listed pages against `scene` (which must hold the stack these page indices and
   // lights refer to); blocking. Grows the light atlas to scene.slotCount() first (old values
-  // kept, new slots zero). Skips the dispatch entirely when dirtyPages is empty. Same units and
-  // limits as LightCacheCpu::update; at most 65535 pages (asserted; a stack has <= 32768).
-  // `objects` (optional, updated for the same stack): moving objects block the shadow rays (hard
-  // shadows; the GPU pass only -- the CPU reference has no objects).
+  // kept, new slots zero). Same units and limits as LightCacheCpu::update; at most 65535 pages
+  // (asserted; a stack has <= 32768). `objects` (optional, updated for the same stack): moving
+  // objects block the shadow rays (hard shadows; the GPU pass only -- the CPU reference has no
+  // objects), and the instances on objects->cardRelightList() get their card light recomputed
+  // (card_light.comp, pass "light_cache_cards"). Dispatches nothing when there are neither
+  // dirty pages nor instances to relight.
   void update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
               const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
               double voxelSize0, const ObjectScene* objects = nullptr);
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
-  // pass is named "light_cache" in the batch's timings. lastTimings() is not updated.
+  // passes are named "light_cache" and "light_cache_cards" in the batch's timings.
+  // lastTimings() is not updated.
   void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const GpuStackScene& scene,
               std::span<const gpu_shared::GpuLight> lights, const gpu_shared::GpuSky& sky,
               std::span<const std::uint32_t> dirtyPages, double voxelSize0,

@@ -3,7 +3,9 @@
 // object_regions.comp (count -> scan -> fill) every frame from the instances. Passes that trace
 // objects bind buffers() at their OBJ_BINDING_BASE (shaders/object_bindings.glsl). With no
 // instance at all nothing is dispatched (active() is false), so static-only frames cost exactly
-// what they cost before objects existed.
+// what they cost before objects existed. Cards (cards/): each mesh's card atlas, captured by
+// prepareCards, and each instance's card light block (CardLightSlots), bound as object bindings
+// 6 and 7 and relit by the light cache's card pass.
 #pragma once
 
 #include <array>
