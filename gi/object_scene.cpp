@@ -73,11 +73,15 @@ void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) 
   if (!(texelWorld > 0.0)) return;
   cardsVersion_ = library.version();
   cardsUploaded_ = false;
-  const std::uint32_t meshes = std::uint32_t(library.size());
-  meshTexels_.assign(meshes, 0u);
-  cardTable_.assign(std::size_t(meshes) * gs::kCardsPerMesh, gs::CardGpu{});
-  cardTexels_.clear();
   captureMilliseconds_ = 0.0;
+  // The library only appends meshes: those captured before at the same texel size keep their
+  // cards; only the new ones are captured.
+  std::uint32_t done = texelWorld == cardsTexelWorld_ ? capturedMeshes_ : 0u;
+  if (done == 0) cardTexels_.clear();
+  cardsTexelWorld_ = texelWorld;
+  const std::uint32_t meshes = std::uint32_t(library.size());
+  meshTexels_.resize(meshes, 0u);
+  cardTable_.resize(std::size_t(meshes) * gs::kCardsPerMesh, gs::CardGpu{});
   if (settings_.cards && !rasterizer_) {
     try {
       rasterizer_ = std::make_unique<CardRasterizer>(context_);
@@ -86,9 +90,13 @@ void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) 
       settings_.cards = false;
     }
   }
-  // Texels are indexed from the start of the uvec4 array, after the table (4 uvec4 per card).
+  // Texels are indexed from the start of the uvec4 array, after the table (4 uvec4 per card):
+  // the cards kept move by as much as the table grew.
   const std::uint32_t tableWords = std::uint32_t(cardTable_.size()) * 4u;
-  for (std::uint32_t m = 0; settings_.cards && m < meshes; ++m) {
+  const std::uint32_t grown = tableWords - done * gs::kCardsPerMesh * 4u;
+  for (std::uint32_t k = 0; k < done * gs::kCardsPerMesh; ++k) cardTable_[k].first.y += grown;
+  capturedMeshes_ = settings_.cards ? meshes : 0u;
+  for (std::uint32_t m = done; settings_.cards && m < meshes; ++m) {
     const ObjectSdf& sdf = library.mesh(m);
     const TriangleScene& triangles = library.triangles(m);
     const MeshCards cards = layoutCards(

@@ -92,7 +92,7 @@ class ObjectScene {
   std::vector<std::uint32_t> downloadCardLight() const;
   // Device bytes of the card atlas and the card light (what cards cost in memory).
   std::size_t cardBytes() const { return cardData_.size() + cardLight_.size(); }
-  // GPU milliseconds of the last card capture (every mesh of the library), 0 if none.
+  // GPU milliseconds of the last card capture (the meshes new since the one before), 0 if none.
   double lastCaptureMilliseconds() const { return captureMilliseconds_; }
 
   // Rays (stack space) against the objects only: through the region lists, or every instance
@@ -130,6 +130,8 @@ class ObjectScene {
   std::vector<gpu_shared::CardTexelGpu> cardTexels_;
   double captureMilliseconds_ = 0.0;
   std::uint64_t cardsVersion_ = ~std::uint64_t(0);
+  std::uint32_t capturedMeshes_ = 0;  // the library's first meshes whose cards are captured
+  double cardsTexelWorld_ = 0.0;      // the texel size they were captured at
   bool cardsUploaded_ = true;
   gpu::Buffer rays_, hits_;
   std::uint64_t atlasVersion_ = ~std::uint64_t(0);

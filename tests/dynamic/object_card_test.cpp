@@ -185,6 +185,27 @@ TEST_F(ObjectCardTest, LookupOfEveryHitEqualsTheCpuReference) {
   EXPECT_LE(lightDiffer, objectHits / 200);  // rounding where a blend straddles RGB9E5 steps
 }
 
+TEST_F(ObjectCardTest, AMeshAddedLaterIsCapturedAloneAndTheAtlasEqualsAFreshCapture) {
+  test::AnalyticStack stack = floorStack();
+  test::RandomObjects objects;
+  objects.addRandom(stack.image, 10, 20.0, 3);
+  ObjectScene grown(ctx());
+  grown.update(objects.library, objects.instances, stack.image);
+  objects.library.addBox({2.0f, 1.0f, 3.0f}, {0.1f, 0.2f, 0.9f, 1.0f});
+  grown.update(objects.library, objects.instances, stack.image);
+  ObjectScene fresh(ctx());
+  fresh.update(objects.library, objects.instances, stack.image);
+  ASSERT_EQ(grown.cardTable().size(), 3u * 6u);
+  EXPECT_EQ(grown.cardMeshTexels(), fresh.cardMeshTexels());
+  for (std::size_t k = 0; k < grown.cardTable().size(); ++k) {
+    EXPECT_EQ(grown.cardTable()[k].first, fresh.cardTable()[k].first) << k;
+    EXPECT_EQ(grown.cardTable()[k].info, fresh.cardTable()[k].info) << k;
+  }
+  ASSERT_EQ(grown.cardTexels().size(), fresh.cardTexels().size());
+  for (std::size_t t = 0; t < grown.cardTexels().size(); ++t)
+    EXPECT_EQ(grown.cardTexels()[t].albedo, fresh.cardTexels()[t].albedo) << t;
+}
+
 std::vector<gs::ObjectInstanceGpu> instancesOf(std::span<const std::uint32_t> ids,
                                                std::uint32_t mesh, bool moved) {
   std::vector<gs::ObjectInstanceGpu> out;
