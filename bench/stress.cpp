@@ -81,7 +81,25 @@ struct Bench {
   double areaWidth = 0.0, areaHeight = 0.0;  // metres: area's extent in x and z, and in y
   std::uint64_t seed = 1;
   int frames = 0, warmup = 0;
+  std::uint32_t meshes = 2;
+  double sunOrbitDegrees = 0.0;
 };
+
+// The lights of frame f: suns turned about the vertical by f × degrees (a sun
+// that moves every frame; each frame is a light change, so everything lit is relit).
+SceneLights lightsAt(const SceneLights& base, double degrees, int f) {
+  SceneLights lights = base;
+  lights.version = degrees != 0.0 ? std::uint64_t(f) : 0;
+  if (degrees == 0.0) return lights;
+  const double a = glm::radians(degrees * double(f));
+  const double c = std::cos(a), s = std::sin(a);
+  for (SceneLight& l : lights.lights)
+    if (l.type == SceneLight::Type::Sun)
+      l.direction =
+          glm::normalize(glm::vec3(float(c * l.direction.x + s * l.direction.z), l.direction.y,
+                                   float(-s * l.direction.x + c * l.direction.z)));
+  return lights;
+}
 
 StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
   StressRun run;
@@ -98,13 +116,12 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
     InstanceSet instances;
     ScriptedMotion motion;
     if (stress::hasObjects(mode)) {
-      motion = spreadObjects(instances, b.library, objects, b.area, b.seed);
+      motion = spreadObjects(instances, b.library, objects, b.area, b.seed, b.meshes);
       gi.setObjects(&b.library, &instances);
       gi.objects().setNaiveTraversal(mode == Mode::Naive);
     }
-    SceneLights lights = b.lights;
-    lights.version = 0;
     for (int f = 0; f < b.warmup + b.frames; ++f) {
+      const SceneLights lights = lightsAt(b.lights, b.sunOrbitDegrees, f);
       const auto t0 = Clock::now();
       if (stress::hasObjects(mode)) motion.apply(instances, f / 60.0);
       const double motionMs = millisecondsSince(t0);
@@ -112,9 +129,12 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
           f == 0 ? std::span<const std::uint32_t>(b.allSlots) : std::span<const std::uint32_t>();
       const GiFrameStats s = gi.update(b.stack, dirty, lights, b.inputs, std::uint64_t(f));
       const double wallMs = millisecondsSince(t0);
-      if (f == 0 && mode == Mode::Regions && objects > 0)  // the first frame captures the cards
+      if (f == 0 && mode == Mode::Regions && objects > 0) {  // the first frame captures the cards
+        run.meshesCaptured = std::uint32_t(b.library.size());
+        run.captureMs = gi.objects().lastCaptureMilliseconds();
         std::printf("stress: cards of %zu meshes captured in %.3f ms of GPU time\n",
-                    b.library.size(), gi.objects().lastCaptureMilliseconds());
+                    b.library.size(), run.captureMs);
+      }
       if (f < b.warmup) continue;
 
       StressFrame m;
@@ -152,7 +172,11 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
 
       const int measured = f - b.warmup + 1;
       if (measured % kCheckEvery == 0 || measured == b.frames) {
-        const std::uint64_t bad = countNonFinite(gi.probes().downloadIrradiance());
+        const std::uint64_t badCards =
+            stress::hasObjects(mode) ? gi.objects().cardNonFiniteTexels() : 0;  // cumulative
+        const std::uint64_t bad =
+            countNonFinite(gi.probes().downloadIrradiance()) + (badCards - run.nonFiniteCardTexels);
+        run.nonFiniteCardTexels = badCards;
         run.nonFiniteTexels += bad;
         ++run.irradianceChecks;
         const std::uint64_t messages =
@@ -225,6 +249,8 @@ void setUpBench(Bench& bench, const StressOptions& o, const GiSettings& settings
   bench.inputs.cameraWorld = at.camera;
   bench.inputs.viewDirection = glm::vec3(view);
   bench.seed = o.seed;
+  bench.meshes = o.meshes;
+  bench.sunOrbitDegrees = o.sunOrbitDegrees;
   bench.frames = o.frames;
   bench.warmup = o.warmup;
   const double areaWidth = o.areaWidth > 0.0 ? o.areaWidth : 256.0 * voxel0;

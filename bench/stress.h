@@ -29,7 +29,9 @@ struct StressOptions {
   std::uint64_t seed = 1;                                         // object placement and motion
   bool naive = true;  // the naive runs, up to naiveMax objects
   std::uint32_t naiveMax = ~0u;
-  bool cardsPeer = true;  // per count, the regions run again with the cards off
+  bool cardsPeer = true;         // per count, the regions run again with the cards off
+  std::uint32_t meshes = 2;      // distinct meshes the objects are spread over (spreadObjects)
+  double sunOrbitDegrees = 0.0;  // per frame, about the vertical: a moving light (0: still)
   int cascades = 6;
   std::optional<glm::dvec3> camera;          // none: 2 m over the surface below the bounds' centre
   double areaWidth = 0.0, areaHeight = 0.0;  // metres; 0: 256 and 16 cascade-0 voxels

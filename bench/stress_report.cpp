@@ -418,6 +418,7 @@ StressChecks checkRuns(const std::vector<StressRun>& runs) {
   StressChecks c;
   for (const StressRun& r : runs) {
     c.nonFiniteTexels += r.nonFiniteTexels;
+    c.nonFiniteCardTexels += r.nonFiniteCardTexels;
     c.validationMessages += r.validationMessages;
   }
   const StressRun* st = findRun(runs, Mode::Static, 0);
@@ -562,9 +563,11 @@ std::string cardsSection(const std::vector<StressRun>& runs) {
       "the cards off (regions-no-cards). *card light ms*: the light_cache_cards pass (part of "
       "the light cache); *relit*: instances whose card light it recomputed (median per frame); "
       "*stale*: frames since the longest-unlit instance's last relight (median); *MiB*: card "
-      "atlas + card light on the device.\n\n"
-      "| objects | regions + probe, cards on | cards off | card light ms | relit | stale | MiB |\n"
-      "|---|---|---|---|---|---|---|\n";
+      "atlas + card light on the device; *capture*: the first frame's capture of every mesh's "
+      "cards (GPU ms, and per mesh).\n\n"
+      "| objects | regions + probe, cards on | cards off | card light ms | relit | stale | MiB | "
+      "capture ms (meshes; per mesh) |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   char row[512];
   bool any = false;
   for (const StressRun& r : runs) {
@@ -572,9 +575,11 @@ std::string cardsSection(const std::vector<StressRun>& runs) {
     const RunSummary on = summarize(r);
     const StressRun* off = findRun(runs, Mode::RegionsNoCards, r.objects);
     const std::string offText = measured(off) ? format("%.3f", summarize(*off).costMs) : "skipped";
-    std::snprintf(row, sizeof row, "| %s | %.3f | %s | %.4f | %.0f | %.0f | %.2f |\n",
+    std::snprintf(row, sizeof row,
+                  "| %s | %.3f | %s | %.4f | %.0f | %.0f | %.2f | %.3f (%u; %.4f) |\n",
                   withCommas(r.objects).c_str(), on.costMs, offText.c_str(), on.cardLightMs,
-                  on.cardRelit, on.cardStaleFrames, on.cardMiB);
+                  on.cardRelit, on.cardStaleFrames, on.cardMiB, r.captureMs, r.meshesCaptured,
+                  r.meshesCaptured > 0 ? r.captureMs / double(r.meshesCaptured) : 0.0);
     md += row;
     any = true;
   }
@@ -627,6 +632,13 @@ void writeStressReport(const fs::path& dir, const StressSetup& setup,
         " over " + std::to_string(downloads) +
         " downloads of every probe's irradiance (every 100 measured frames and at the end of each "
         "run)\n";
+  md +=
+      std::string(
+          "- Card light texels whose radiance came out NaN or infinite (counted by the "
+          "card light pass, every relight of every run): ") +
+      (checks.nonFiniteCardTexels == 0 ? "**none**"
+                                       : "**" + std::to_string(checks.nonFiniteCardTexels) + "**") +
+      "\n";
   md += setup.validation
             ? "- Vulkan validation messages: **" + std::to_string(checks.validationMessages) +
                   "** (Khronos validation layer on)\n"

@@ -62,6 +62,12 @@ struct StressRun {
   std::vector<StressFrame> frames;    // measured frames only
   std::uint64_t nonFiniteTexels = 0;  // summed over the irradiance checks
   int irradianceChecks = 0;           // downloads of every probe's irradiance
+  // Card light texels whose radiance came out NaN or infinite over the run (counted by the card
+  // light pass itself; also in nonFiniteTexels).
+  std::uint64_t nonFiniteCardTexels = 0;
+  // Cards captured by the run's first frame: meshes, and the capture's GPU milliseconds.
+  std::uint32_t meshesCaptured = 0;
+  double captureMs = 0.0;
   std::uint64_t validationMessages = 0;
   double wallSeconds = 0.0;  // warm-up and checks included
 };
@@ -96,7 +102,7 @@ struct StressSetup {
 
 // The outcome of the run's checks (also decides the exit code).
 struct StressChecks {
-  std::uint64_t nonFiniteTexels = 0, validationMessages = 0;
+  std::uint64_t nonFiniteTexels = 0, nonFiniteCardTexels = 0, validationMessages = 0;
   // The 0-object run did no object work at all: no region pass, no probe ray searched objects,
   // in any frame (the skip of issue 7 item 5; a failure otherwise).
   bool zeroObjectsNoObjectWork = true;

@@ -7,7 +7,8 @@
 namespace sdfstream {
 namespace {
 constexpr glm::uvec3 kGroup(64, 1, 1);
-constexpr std::uint32_t kBindings = 16;  // 8 + 8 object bindings (light_cache.comp)
+constexpr std::uint32_t kBindings = 16;      // 8 + 8 object bindings (light_cache.comp)
+constexpr std::uint32_t kCardBindings = 17;  // the same + the non-finite counter (card_light.comp)
 }  // namespace
 
 LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
@@ -17,7 +18,7 @@ LightCache::LightCache(gpu::Context& context, LightCacheSettings settings)
                 gpu::PipelineDesc{kBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
       cardPipeline_(
           context, gpu::ShaderId::card_light,
-          gpu::PipelineDesc{kBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
+          gpu::PipelineDesc{kCardBindings, sizeof(gpu_shared::LightCachePushConstants), kGroup}),
       radiance_(context, 4, gpu::BufferKind::DeviceLocal),
       pageList_(context, 4096 * sizeof(std::uint32_t), gpu::BufferKind::DeviceLocal),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
@@ -93,6 +94,7 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
         &objects->cardRelightList(), &lights_,        &objects->cardLight(), &scene.pageTables(),
         &scene.distance(),           &scene.albedo(), &scene.emission(),     &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
+    bufs.push_back(&objects->cardNonFiniteCounter());
     batch.dispatch("light_cache_cards", cardPipeline_, bufs, &pc, sizeof pc,
                    glm::uvec3(64, cards, 1));
   }

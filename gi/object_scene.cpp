@@ -43,10 +43,12 @@ ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
       material_(context, 8, gpu::BufferKind::DeviceLocal),
       cardData_(context, 64, gpu::BufferKind::DeviceLocal),
       cardLight_(context, 4, gpu::BufferKind::DeviceLocal),
-      relightList_(context, 4, gpu::BufferKind::DeviceLocal) {
+      relightList_(context, 4, gpu::BufferKind::DeviceLocal),
+      cardNonFinite_(context, 4, gpu::BufferKind::DeviceLocal) {
   // Inactive until the first update: the meta buffer must still read as "no instances".
   gpu::CommandBatch batch = context.beginBatch(0);
   batch.fill(meta_, 0u);
+  batch.fill(cardNonFinite_, 0u);
   batch.submitAndWait();
 }
 
@@ -155,6 +157,12 @@ std::vector<std::uint32_t> ObjectScene::downloadCardLight() const {
   std::vector<std::uint32_t> out(slots_.endTexel());
   if (!out.empty()) cardLight_.download(out.data(), out.size() * sizeof(std::uint32_t));
   return out;
+}
+
+std::uint64_t ObjectScene::cardNonFiniteTexels() const {
+  std::uint32_t n = 0;
+  cardNonFinite_.download(&n, sizeof n);
+  return n;
 }
 
 void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instances,

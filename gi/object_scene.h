@@ -90,6 +90,11 @@ class ObjectScene {
   const std::vector<gpu_shared::CardGpu>& cardTable() const { return cardTable_; }
   const std::vector<gpu_shared::CardTexelGpu>& cardTexels() const { return cardTexels_; }
   std::vector<std::uint32_t> downloadCardLight() const;
+  // Card light texels whose radiance came out NaN or infinite since the scene was made (the pass
+  // counts them before RGB9E5 packing turns NaN into 0 and infinity into its largest value), and
+  // the buffer it counts into (binding 16 of card_light.comp). Blocking download.
+  std::uint64_t cardNonFiniteTexels() const;
+  const gpu::Buffer& cardNonFiniteCounter() const { return cardNonFinite_; }
   // Device bytes of the card atlas and the card light (what cards cost in memory).
   std::size_t cardBytes() const { return cardData_.size() + cardLight_.size(); }
   // GPU milliseconds of the last card capture (the meshes new since the one before), 0 if none.
@@ -123,6 +128,7 @@ class ObjectScene {
   gpu::Buffer meta_, instances_, regions_, lists_, distance_, material_;
   // Cards: the atlas (uvec4s: table, then texels), each instance's light, this frame's list.
   gpu::Buffer cardData_, cardLight_, relightList_;
+  gpu::Buffer cardNonFinite_;  // one uint: texels whose light came out NaN or Inf (card_light.comp)
   std::unique_ptr<CardRasterizer> rasterizer_;
   CardLightSlots slots_;
   std::vector<std::uint32_t> meshTexels_, relight_;

@@ -110,7 +110,7 @@ void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
 }
 
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,
-                             WorldBox area, std::uint64_t seed) {
+                             WorldBox area, std::uint64_t seed, std::uint32_t meshes) {
   if (!finite(area.min) || !finite(area.max) || glm::any(glm::greaterThan(area.min, area.max)))
     throw std::invalid_argument("spreadObjects: area must be finite with min <= max");
   auto primitive = [&](const char* name, auto make) {
@@ -121,6 +121,21 @@ ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t
       "spread:box", [] { return makeBoxMesh(glm::vec3(0.5f), glm::vec4(0.8f, 0.6f, 0.4f, 1.0f)); });
   const std::uint32_t sphere = primitive(
       "spread:sphere", [] { return makeSphereMesh(0.5f, glm::vec4(0.4f, 0.6f, 0.8f, 1.0f)); });
+  std::vector<std::uint32_t> meshIds = {sphere, box};  // index: a draw's low bit, as before
+  for (std::uint32_t k = 2; k < std::max(meshes, 2u); ++k) {
+    // Other proportions (taller, flatter) and colours; still within the unit box.
+    const float t = float(k) / float(meshes);
+    const glm::vec4 colour(0.3f + 0.6f * t, 0.8f - 0.5f * t, 0.4f + 0.4f * (1.0f - t), 1.0f);
+    const std::string name =
+        std::string(k % 2 ? "spread:box-" : "spread:sphere-") + std::to_string(k);
+    meshIds.push_back(primitive(name.c_str(), [&] {
+      TriangleScene m = k % 2 ? makeBoxMesh(glm::vec3(0.5f, 0.2f + 0.3f * t, 0.5f), colour)
+                              : makeSphereMesh(0.5f, colour);
+      if (k % 2 == 0)
+        for (glm::vec3& p : m.positions) p.y *= 0.4f + 0.6f * t;  // an ellipsoid
+      return m;
+    }));
+  }
 
   const glm::dvec3 size = area.max - area.min;
   // Motion stays small next to the area so objects spread over it rather than crowd an edge.
@@ -128,7 +143,9 @@ ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t
   SplitMixRng rng{seed};
   ScriptedMotion motion;
   for (std::uint32_t i = 0; i < count; ++i) {
-    const std::uint32_t mesh = rng.next() & 1 ? sphere : box;
+    const std::uint64_t draw = rng.next();
+    const std::uint32_t mesh =
+        meshIds.size() == 2 ? meshIds[draw & 1 ? 0 : 1] : meshIds[draw % meshIds.size()];
     const double longest = rng.uniform(0.3, 2.0);
     glm::vec3 scale;
     for (int a = 0; a < 3; ++a) scale[a] = float(std::max(0.3, longest * rng.uniform(0.5, 1.0)));

@@ -90,8 +90,11 @@ class ScriptedMotion {
 // the library already holds those names. Orbit and Path sizes shrink to a quarter of the area's
 // smaller horizontal side (an area flat in x or z gets still movers instead of paths). area must be
 // finite with min <= max (std::invalid_argument). Used by the stress benchmark for 10..10,000
-// objects.
+// objects. meshes > 2 spreads the instances over that many meshes instead: the box and the
+// sphere, then boxes and spheres of other proportions and colours ("spread:box-k",
+// "spread:sphere-k"), for measuring what per-mesh data (cards) costs; meshes = 2 draws exactly
+// as before.
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,
-                             WorldBox area, std::uint64_t seed);
+                             WorldBox area, std::uint64_t seed, std::uint32_t meshes = 2);
 
 }  // namespace sdfstream

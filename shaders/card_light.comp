@@ -6,7 +6,8 @@
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
 // as object binding 15), 3 page tables, 4 distance atlas, 5 albedo atlas, 6 emission atlas,
-// 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl).
+// 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl), 16 the count
+// of texels whose light came out NaN or infinite (packing would hide them as black or white).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -23,6 +24,7 @@ layout(std430, binding = 4) readonly buffer DistanceAtlas { uint distanceAtlas[]
 layout(std430, binding = 5) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
 layout(std430, binding = 6) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
 layout(std430, binding = 7) readonly buffer Cascades { CascadeTraceParams cascades[]; };
+layout(std430, binding = 16) buffer CardNonFinite { uint cardNonFinite; };
 
 layout(push_constant) uniform Push { LightCachePushConstants pc; };
 
@@ -54,9 +56,10 @@ void main() {
     for (uint t = gl_LocalInvocationID.x; t < count; t += gl_WorkGroupSize.x) {
       uint local = c.first.x + t;
       CardTexelGpu texel = OBJ_CARD_TEXEL(c.first.y + local);
-      cardLightOut[base + local] = packRgb9e5(
-          cardTexelRadiance(inst, m, c, t, texel, pc.counts.y, pc.params.x, pc.counts.w,
-                            pc.params.y, pc.counts.z));
+      vec3 radiance = cardTexelRadiance(inst, m, c, t, texel, pc.counts.y, pc.params.x,
+                                        pc.counts.w, pc.params.y, pc.counts.z);
+      if (any(isnan(radiance)) || any(isinf(radiance))) atomicAdd(cardNonFinite, 1u);
+      cardLightOut[base + local] = packRgb9e5(radiance);
     }
   }
 }

@@ -389,21 +389,27 @@ ObjRegionRange objRegionRange(ObjectInstanceGpu inst, uint c) {
   return rr;
 }
 
-// Whether stack point p lies inside (or on) an object listed in the region that holds it (the
-// finest of cascades >= firstCascade): probes there are turned off instead of going black.
-bool objInsideAny(vec3 p, uint firstCascade) {
+// The instance nearest to stack point p among those listed in the region that holds it (the
+// finest of cascades >= firstCascade), as (distance, instance); distance 1e30 when none is
+// listed. The distance is a lower bound (objInstanceDistance), negative inside: probes inside an
+// object are turned off instead of going black, and probes near one relocate away from it.
+vec2 objNearestListed(vec3 p, uint firstCascade) {
+  vec2 best = vec2(1e30f, 0.0f);
   uint cascades = OBJ_FRAME.counts.y;
-  if (OBJ_FRAME.counts.x == 0u) return false;
+  if (OBJ_FRAME.counts.x == 0u) return best;
   for (uint c = firstCascade; c < cascades; ++c) {
     if (!objInRegionGrid(c, p)) continue;
     vec4 ro = OBJ_FRAME.regionOrigin[c];
     ivec3 r = clamp(ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w)), ivec3(0), ivec3(7));
     ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
-    for (uint k = 0u; k < region.count; ++k)
-      if (objInstanceDistance(OBJ_LIST(region.start + k), p) < 0.0f) return true;
-    return false;
+    for (uint k = 0u; k < region.count; ++k) {
+      uint i = OBJ_LIST(region.start + k);
+      float d = objInstanceDistance(i, p);
+      if (d < best.x) best = vec2(d, float(i));
+    }
+    return best;
   }
-  return false;
+  return best;
 }
 
 // Whether stack point p lies in a sub-cell within wake distance of an instance that moved,

@@ -60,6 +60,41 @@ vec3 probeRelocate(uint cascade, uint cascadeCount, vec3 gridPos, float spacing,
   return offset;
 }
 
+#ifdef OBJ_FRAME
+// Relocation away from moving objects, as probeRelocate does from the static SDF: a probe closer
+// than minDistance to the nearest listed object (inside it included) steps along that object's
+// distance gradient, within the same 0.45-spacing limit, never into static geometry. A probe on
+// an object's face would otherwise be off, and the receivers beside the face would read only the
+// probes a whole spacing away (the bounce right at the face is the strongest). Probes deeper
+// inside than the limit allows stay inside and are turned off.
+vec3 probeRelocateFromObjects(uint cascade, uint cascadeCount, vec3 gridPos, vec3 offset,
+                              float spacing, float minDistance) {
+  float limit = 0.45f * spacing;
+  for (int i = 0; i < 4; ++i) {
+    vec3 p = gridPos + offset;
+    vec2 near = objNearestListed(p, cascade);
+    if (near.x >= minDistance) break;
+    uint inst = uint(near.y);
+    float h = 0.125f * minDistance;
+    vec3 grad = vec3(objInstanceDistance(inst, p + vec3(h, 0, 0)) -
+                         objInstanceDistance(inst, p - vec3(h, 0, 0)),
+                     objInstanceDistance(inst, p + vec3(0, h, 0)) -
+                         objInstanceDistance(inst, p - vec3(0, h, 0)),
+                     objInstanceDistance(inst, p + vec3(0, 0, h)) -
+                         objInstanceDistance(inst, p - vec3(0, 0, h)));
+    if (dot(grad, grad) < 1e-12f) break;  // deep inside a flat distance: nowhere to go
+    grad = normalize(grad);
+    vec3 next = clamp(offset + grad * (minDistance - near.x), vec3(-limit), vec3(limit));
+    if (next == offset) break;
+    ProbeSdf there = probeSdfAt(cascade, cascadeCount, gridPos + next);
+    // Never into static geometry, nor out of every window (as probeRelocate).
+    if (there.distance < 0.0f || (!there.resident && there.distance == 0.0f)) break;
+    offset = next;
+  }
+  return offset;
+}
+#endif
+
 // Whether probe storage s of v holds a position that was outside the volume last frame (the
 // newly entered planes of a scroll, GS "scrolling"), or the whole volume was reset.
 bool probeEntered(ProbeVolume v, uint s) {
@@ -203,8 +238,14 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     age += 1u;
   }
   vec3 offset = vec3(0.0f);
-  if ((f.options.x & kProbeOptionRelocation) != 0u)
+  if ((f.options.x & kProbeOptionRelocation) != 0u) {
     offset = probeRelocate(c, f.counts.x, grid, spacing, f.trace.y * spacing);
+#ifdef OBJ_FRAME
+    if (probeObjectsReach(f, c))
+      offset = probeRelocateFromObjects(c, f.counts.x, grid, offset, spacing,
+                                        f.trace.y * spacing);
+#endif
+  }
   ProbeSdf sdf = probeSdfAt(c, f.counts.x, grid + offset);
   // The inside verdict holds until the probe moves or the page under it changes (streaming).
   if (offset != vec3(oldData)) inside = false;
@@ -224,7 +265,14 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     vigilant = max(vigilant, (f.selection.w >> 8u) & 255u);
     quiet = 0u;
   }
-  if (probeObjectsReach(f, c)) insideObject = objInsideAny(grid + offset, c);
+  if (probeObjectsReach(f, c)) {
+    float objDistance = objNearestListed(grid + offset, c).x;
+    insideObject = objDistance < 0.0f;
+    // A surface within reach makes a probe useful whether it is static or an object's: an
+    // object flying far from static geometry keeps the probes around it (its cards' indirect
+    // light and the receivers near it read them).
+    if (!sdf.resident) sdf.distance = min(sdf.distance, max(objDistance, 0.0f));
+  }
 #endif
   uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, inside);
   uint state = probeState(f, sdf, spacing, newHist);

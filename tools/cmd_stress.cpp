@@ -62,6 +62,7 @@ std::optional<glm::dvec3> parseCamera(const Args& args) {
 const char* kHelp =
     "usage: sdfstream stress WORLD [--objects LIST] [--frames N] [--warmup N] [--out DIR]\n"
     "                        [--seed S] [--no-naive] [--naive-max N] [--no-cards-peer]\n"
+    "                        [--meshes N] [--sun-orbit DEG]\n"
     "                        [--device NAME]\n"
     "                        [--validation] [options]\n"
     "\n"
@@ -77,7 +78,9 @@ const char* kHelp =
     "fill), the probe update and its probe_trace pass, the light cache and the pages it relit,\n"
     "rays traced and the object rays, hits and steps, and the host's CPU time by part (motion,\n"
     "object frame, shadow pages, ...); downloads every probe's irradiance every\n"
-    "100 frames and at the end to count non-finite texels; counts validation messages.\n"
+    "100 frames and at the end to count non-finite texels, and the card light texels whose\n"
+    "radiance came out NaN or infinite (counted by the card light pass); counts validation\n"
+    "messages.\n"
     "Writes DIR/results.csv (one row per count and mode), DIR/frames.csv (every frame),\n"
     "DIR/summary.md (the table, the goal check: 10,000 objects cost <= 2x the static-only\n"
     "probe update, and the 0-object run = static-only check) and DIR/probe-update.png,\n"
@@ -96,6 +99,11 @@ const char* kHelp =
     "  --no-naive         skip the naive runs\n"
     "  --naive-max N      skip the naive runs above N objects (default: no limit)\n"
     "  --no-cards-peer    skip the runs with the cards off\n"
+    "  --meshes N         spread the objects over N distinct meshes (default 2: a box and a\n"
+    "                     sphere; more adds boxes and ellipsoids of other shapes and colours,\n"
+    "                     each with its own cards)\n"
+    "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees every frame (default 0:\n"
+    "                     still); every frame is then a light change\n"
     "  --cascades N       cascades (default 6, at most the pack's LOD count)\n"
     "  --camera x,y,z     camera position (default: above the centre of the world's bounds,\n"
     "                     2 m over the surface below it); it looks along -z, slightly down\n"
@@ -116,7 +124,7 @@ int runStress(int argc, char** argv) {
   Args args(argc, argv, 2,
             {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
              "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays",
-             "--probe-budget", "--sun", "--sky"},
+             "--probe-budget", "--sun", "--sky", "--meshes", "--sun-orbit"},
             {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
@@ -133,6 +141,10 @@ int runStress(int argc, char** argv) {
   o.seed = std::uint64_t(args.integer("--seed", 1, 0, std::numeric_limits<int>::max()));
   o.naive = !args.has("--no-naive");
   o.cardsPeer = !args.has("--no-cards-peer");
+  o.meshes = std::uint32_t(args.integer("--meshes", 2, 2, 64));
+  o.sunOrbitDegrees = args.number("--sun-orbit", 0.0);
+  if (!std::isfinite(o.sunOrbitDegrees) || std::abs(o.sunOrbitDegrees) > 360.0)
+    usage("--sun-orbit expects degrees per frame in [-360, 360]");
   o.naiveMax = args.value("--naive-max")
                    ? std::uint32_t(args.integer("--naive-max", 0, 0, int(kMaxObjects)))
                    : kMaxObjects;

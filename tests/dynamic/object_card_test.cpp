@@ -127,6 +127,18 @@ TEST_F(ObjectCardTest, CardLightIsTheSunsLambertTermAndAnotherObjectShadowsIt) {
     sideBefore += lit.light[0][t].x;
   }
   EXPECT_GT(side, 0.5 * sideBefore);
+
+  // The pass counts light that came out non-finite (RGB9E5 would show it as white or black):
+  // none so far; two suns of 3e38 overflow a float on every texel facing them.
+  EXPECT_EQ(objects.cardNonFiniteTexels(), 0u);
+  const std::vector<gs::GpuLight> blinding = {test::sunLight(towardsSun, 3e38f),
+                                              test::sunLight(towardsSun, 3e38f)};
+  objects.update(library, instances, image);
+  cache.update(scene, blinding, sky, {}, image.voxelSize0, &objects);
+  const std::uint64_t overflowed = objects.cardNonFiniteTexels();
+  std::printf("[figures] two suns of 3e38: %llu card texels counted non-finite\n",
+              (unsigned long long)overflowed);
+  EXPECT_GT(overflowed, 0u);
 }
 
 TEST_F(ObjectCardTest, LookupOfEveryHitEqualsTheCpuReference) {
@@ -235,8 +247,11 @@ TEST(CardLightSlots, BlocksPersistAreReusedUnderChurnAndRespectTheCap) {
     slots.assign(frame, texels, false, 1000, 1u << 20);
     EXPECT_EQ(slots.endTexel(), 300u);
   }
-  for (std::size_t i = 0; i < ids.size(); ++i)
-    if (ids[i] == 2) EXPECT_EQ(frame[i].info.w, baseOf2);  // a kept instance keeps its block
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] == 2) {
+      EXPECT_EQ(frame[i].info.w, baseOf2);  // a kept instance keeps its block
+    }
+  }
   // The cap: a fourth mesh-0 instance does not fit in 300 texels and gets no cards.
   ids.push_back(next++);
   frame = instancesOf(ids, 0, false);

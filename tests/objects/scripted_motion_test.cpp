@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "objects/scripted_motion.h"
@@ -172,6 +174,29 @@ TEST(SpreadObjects, DeterministicFromTheSeedAndSpreadOverTheArea) {
   EXPECT_GT(meshes[1], 200);
   for (int k : movers) EXPECT_GT(k, 120);
   for (int k : octants) EXPECT_GT(k, 30);
+}
+
+// More meshes (the cards' per-mesh cost): each is made once, with its own shape, and used;
+// the instances' poses are drawn as with two.
+TEST(SpreadObjects, MoreMeshesAreAllUsedAndMadeOnce) {
+  const WorldBox area{glm::dvec3(-50, 0, -50), glm::dvec3(50, 20, 50)};
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
+  InstanceSet set;
+  const ScriptedMotion m = spreadObjects(set, lib, 600, area, 7, 10);
+  ASSERT_EQ(lib.size(), 10u);
+  std::vector<int> used(10, 0);
+  for (const Instance& inst : set.instances()) ++used.at(inst.mesh);
+  for (std::uint32_t k = 0; k < 10; ++k) EXPECT_GT(used[k], 20) << "mesh " << k;
+  std::set<std::pair<float, float>> shapes;  // (height, width) of each mesh's bounds
+  for (std::uint32_t k = 0; k < 10; ++k) {
+    const TriangleScene& t = lib.triangles(k);
+    shapes.insert({t.boundsMax().y - t.boundsMin().y, t.boundsMax().x - t.boundsMin().x});
+  }
+  EXPECT_EQ(shapes.size(), 9u);  // only the unit box and the unit sphere share bounds (1, 1)
+  InstanceSet again;
+  spreadObjects(again, lib, 600, area, 7, 10);  // reuses them
+  EXPECT_EQ(lib.size(), 10u);
+  EXPECT_EQ(m.size(), 600u);
 }
 
 TEST(SpreadObjects, BadAreaThrows) {
