@@ -9,6 +9,9 @@ namespace gs = gpu_shared;
 
 namespace {
 constexpr std::int64_t kMovedBoost = 8;
+// Blocks lit before the last light change go before every block lit since (their light is of the
+// old lights), in the order of their age.
+constexpr std::int64_t kLightsChangedBoost = std::int64_t(1) << 40;
 }  // namespace
 
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
@@ -18,11 +21,12 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   ++frame_;
   stats_ = {};
   if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
-  if (relightAll)
-    for (auto& [id, block] : blocks_) block.litFrame = 0;
-  // Keys, smaller first: never lit, then the frame of the last relight, a moved instance
-  // counting kMovedBoost frames older (so moves go first, yet when everything moves every
-  // instance still takes its turn: the oldest first).
+  if (relightAll) lightsFrame_ = frame_;
+  // Keys, smaller first: never lit, then lit before the last light change (oldest first), then
+  // the frame of the last relight, a moved instance counting kMovedBoost frames older (so moves
+  // go first, yet when everything moves every instance still takes its turn: the oldest first).
+  // Resetting every block to "never lit" on a light change instead would, with lights that change
+  // every frame, relight the same lowest indices every frame and starve the rest.
   struct Candidate {
     std::int64_t key;
     std::uint32_t index;
@@ -71,9 +75,9 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     ++stats_.withCards;
     stats_.liveTexels += texels;
     const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
-    const std::int64_t key = block.litFrame == 0
-                                 ? std::numeric_limits<std::int64_t>::min()
-                                 : std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
+    std::int64_t key = std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
+    if (block.litFrame < lightsFrame_) key -= kLightsChangedBoost;
+    if (block.litFrame == 0) key = std::numeric_limits<std::int64_t>::min();
     candidates.push_back({key, i});
   }
   const std::size_t take = std::min<std::size_t>(budget, candidates.size());

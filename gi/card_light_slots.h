@@ -31,8 +31,9 @@ class CardLightSlots {
   // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
   // `instances`) to relight, at most `budget`: never lit first, then the longest unlit, a moved
   // instance counting 8 frames staler (moves first, but no instance starves when all move).
-  // relightAll (the lights changed) marks every block unlit first. meshTexels[m]: texels of
-  // mesh m's cards (0: none).
+  // relightAll (the lights changed) puts every block lit before the change ahead of those lit
+  // since, oldest first among them, so lights that change every frame (a moving sun) still relight
+  // every instance in turn. meshTexels[m]: texels of mesh m's cards (0: none).
   std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,
                                     std::span<const std::uint32_t> meshTexels, bool relightAll,
                                     std::uint32_t budget, std::uint64_t capacityTexels);
@@ -45,13 +46,14 @@ class CardLightSlots {
   struct Block {
     std::uint32_t mesh = 0;
     std::uint32_t base = 0;
-    std::uint64_t litFrame = 0;  // 0: never lit (or the lights changed since)
+    std::uint64_t litFrame = 0;  // 0: never lit
     std::uint64_t seenFrame = 0;
   };
   std::unordered_map<std::uint32_t, Block> blocks_;  // by instance id
   std::vector<std::vector<std::uint32_t>> free_;     // per mesh: bases of freed blocks
   std::uint64_t end_ = 0;
   std::uint64_t frame_ = 0;
+  std::uint64_t lightsFrame_ = 0;  // the frame of the last light change
   Stats stats_;
 };
 

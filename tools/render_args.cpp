@@ -42,7 +42,7 @@ constexpr glm::vec3 kSkyHorizon(0.2f, 0.22f, 0.26f);
 
 std::set<std::string> renderValueOptions(std::set<std::string> own) {
   own.insert({"--gi", "--gi-frames", "--probe-rays", "--probe-budget", "--sun", "--sky",
-              "--exposure", "--direct"});
+              "--exposure", "--direct", "--cards"});
   return own;
 }
 
@@ -67,7 +67,10 @@ const char* const kRenderHelp =
     "                                    0.2,0.22,0.26)\n"
     "  --exposure EV                     exposure in stops before the ACES tone map (default 0)\n"
     "  --direct pixel|cache              direct light per pixel with SDF soft shadows (default),\n"
-    "                                    or the light cache's value of the hit voxel\n";
+    "                                    or the light cache's value of the hit voxel\n"
+    "  --cards on|off                    moving objects' card atlases (default on): probe rays\n"
+    "                                    that hit an object read the light it receives; off: an\n"
+    "                                    object bounces only its emission and probe light\n";
 
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
                                     std::uint32_t defaultProbeBudget) {
@@ -91,6 +94,10 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
   o.renderer.shading.shadowSteps = o.renderer.settings.light.maxShadowSteps;
   o.renderer.shading.shadowEpsilon = o.renderer.settings.light.hitEpsilon;
   o.exposureStops = float(args.number("--exposure", 0.0));
+  const std::string cards = args.value("--cards").value_or("on");
+  if (cards != "on" && cards != "off")
+    throw usage("--cards expects on or off, got '" + cards + "'");
+  o.renderer.settings.objects.cards = cards == "on";
 
   glm::vec3 sunDir = kSunTravel;
   float sunE = kSunIrradiance;

@@ -161,7 +161,7 @@ TEST(Cli, RenderGiFlags) {
                         "on-indirect.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   for (const std::string bad : {"--gi maybe", "--cpu --gi on", "--sun 1,2", "--sky 1,2,3,4",
-                                "--direct sometimes", "--probe-rays 0"}) {
+                                "--direct sometimes", "--probe-rays 0", "--cards maybe"}) {
     RunResult r = run("render " + world + " -o " + (dir / "bad.png").string() + " " + bad);
     EXPECT_EQ(r.exitCode, 2) << bad;
     EXPECT_EQ(lineCount(r.err), 1) << bad << ": " << r.err;
@@ -170,7 +170,8 @@ TEST(Cli, RenderGiFlags) {
   for (const char* cmd : {"render", "demo", "fly"}) {
     RunResult help = run(std::string(cmd) + " --help");
     EXPECT_EQ(help.exitCode, 0) << cmd;
-    for (const char* flag : {"--gi on|off", "--gi-frames", "--probe-rays", "--sun", "--sky"})
+    for (const char* flag :
+         {"--gi on|off", "--gi-frames", "--probe-rays", "--sun", "--sky", "--cards on|off"})
       EXPECT_NE(help.out.find(flag), std::string::npos) << cmd << " --help lacks " << flag;
   }
 }

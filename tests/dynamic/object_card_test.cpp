@@ -289,6 +289,20 @@ TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
   // Round robin: with 10 instances and 4 per frame nothing waits more than 3 frames.
   for (int f = 0; f < 12; ++f) slots.assign(frame, texels, false, 4, 1u << 20);
   EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+  // The lights change every frame (a moving sun): still round robin, nobody starves.
+  for (int f = 0; f < 12; ++f) slots.assign(frame, texels, true, 4, 1u << 20);
+  EXPECT_LE(slots.stats().maxStaleFrames, 3u);
+  // After one change, the instances lit before it go first, oldest first.
+  slots.assign(frame, texels, false, 4, 1u << 20);
+  const std::vector<std::uint32_t> first = slots.assign(frame, texels, true, 4, 1u << 20);
+  const std::vector<std::uint32_t> second = slots.assign(frame, texels, false, 4, 1u << 20);
+  const std::vector<std::uint32_t> third = slots.assign(frame, texels, false, 4, 1u << 20);
+  std::vector<std::uint32_t> all(first);
+  all.insert(all.end(), second.begin(), second.end());
+  all.insert(all.end(), third.begin(), third.end());
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  EXPECT_EQ(all.size(), 10u) << "three frames of 4 relight all 10 after a change";
 }
 
 }  // namespace
