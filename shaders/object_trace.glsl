@@ -391,9 +391,10 @@ ObjRegionRange objRegionRange(ObjectInstanceGpu inst, uint c) {
 
 // The instance nearest to stack point p among those listed in the region that holds it (the
 // finest of cascades >= firstCascade), as (distance, instance); distance 1e30 when none is
-// listed. The distance is a lower bound (objInstanceDistance), negative inside: probes inside an
-// object are turned off instead of going black, and probes near one relocate away from it.
-vec2 objNearestListed(vec3 p, uint firstCascade) {
+// listed; instances whose bounding radius is below minRadius are skipped. The distance is a lower
+// bound (objInstanceDistance), negative inside: probes inside an object are turned off instead of
+// going black, and probes near a large one relocate away from it.
+vec2 objNearestListed(vec3 p, uint firstCascade, float minRadius) {
   vec2 best = vec2(1e30f, 0.0f);
   uint cascades = OBJ_FRAME.counts.y;
   if (OBJ_FRAME.counts.x == 0u) return best;
@@ -404,6 +405,7 @@ vec2 objNearestListed(vec3 p, uint firstCascade) {
     ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
     for (uint k = 0u; k < region.count; ++k) {
       uint i = OBJ_LIST(region.start + k);
+      if (OBJ_INSTANCE(i).boundsMax.w < minRadius) continue;
       float d = objInstanceDistance(i, p);
       if (d < best.x) best = vec2(d, float(i));
     }
