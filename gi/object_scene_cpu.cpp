@@ -38,6 +38,45 @@ struct ObjectPasses {
 #undef SDF_PRECISE
 };
 
+// The card light pass: the static stack's SDF macros and the objects' together, as
+// card_light.comp binds them (its shadow rays see both).
+struct CardLightPasses {
+  const std::uint32_t* pageTable = nullptr;
+  const std::uint32_t* distanceAtlas = nullptr;
+  const std::uint32_t* albedoAtlas = nullptr;
+  const std::uint32_t* emissionAtlas = nullptr;
+  const CascadeTraceParams* cascades = nullptr;
+  const GpuLight* lights = nullptr;
+  const ObjectFrameGpu* framePtr = nullptr;
+  const ObjectMeshGpu* meshes = nullptr;
+  const ObjectInstanceGpu* instances = nullptr;
+  const ObjectRegionGpu* regions = nullptr;
+  const std::uint32_t* list = nullptr;
+  const float* dist = nullptr;
+  const glm::uvec2* mat = nullptr;
+
+#define SDF_PRECISE
+#define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
+#define SDF_ALBEDO(i) albedoAtlas[i]
+#define SDF_EMISSION(i) emissionAtlas[i]
+#define SDF_CASCADE(c) cascades[c]
+#define LIGHT_AT(i) lights[i]
+#include "shaders/object_trace.glsl"
+#include "shaders/sdf_trace.glsl"
+// light_math.glsl and card_light.glsl need the functions above: keep this order.
+#include "shaders/card_light.glsl"
+#include "shaders/card_math.glsl"
+#include "shaders/light_math.glsl"
+#undef SDF_PRECISE
+#undef SDF_PAGE
+#undef SDF_DIST_WORD
+#undef SDF_ALBEDO
+#undef SDF_EMISSION
+#undef SDF_CASCADE
+#undef LIGHT_AT
+};
+
 ObjectTraceHit toHit(ObjectPasses& p, const ObjectPasses::ObjectHit& h, glm::vec3 o, glm::vec3 d) {
   ObjectTraceHit out{};
   out.cardLight = 0u;
@@ -154,6 +193,48 @@ gs::ObjectTraceHit ObjectSceneCpu::traceAll(const gs::TraceRay& ray) const {
   bindCards(p, cardTable_, cardTexels_, cardLight_);
   const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
   return object_detail::toHit(p, p.objTraceAll(o, d, ray.originTMin.w, ray.dirTMax.w), o, d);
+}
+
+}  // namespace sdfstream
+
+namespace sdfstream {
+
+std::vector<std::uint32_t> ObjectSceneCpu::cardLight(std::uint32_t instance,
+                                                     const CascadeStackImage& stack,
+                                                     std::span<const gs::GpuLight> lights,
+                                                     const LightCacheSettings& settings) const {
+  std::vector<std::uint32_t> out;
+  if (cardTable_.empty() || instance >= frame_.instances.size()) return out;
+  object_detail::CardLightPasses p;
+  p.pageTable = stack.pageTables.data();
+  p.distanceAtlas = stack.distanceAtlas->data();
+  p.albedoAtlas = stack.albedoAtlas->data();
+  p.emissionAtlas = stack.emissionAtlas->data();
+  p.cascades = stack.params.data();
+  p.lights = lights.data();
+  p.framePtr = &frame_.frame;
+  p.meshes = atlas_.meshes.data();
+  p.instances = frame_.instances.data();
+  p.regions = regions_.data();
+  p.list = flat_.data();
+  p.dist = atlas_.distance.data();
+  p.mat = atlas_.material.data();
+  const gs::LightCachePushConstants pc =
+      lightCachePushConstants(settings, 1, std::uint32_t(lights.size()),
+                              std::uint32_t(stack.params.size()), gs::GpuSky{}, stack.voxelSize0);
+  const gs::ObjectInstanceGpu& inst = frame_.instances[instance];
+  const gs::ObjectMeshGpu& mesh = atlas_.meshes[inst.info.x];
+  const std::uint32_t tableWords = std::uint32_t(cardTable_.size()) * 4u;
+  for (std::uint32_t k = 0; k < gs::kCardsPerMesh; ++k) {
+    const gs::CardGpu& c = cardTable_[inst.info.x * gs::kCardsPerMesh + k];
+    for (std::uint32_t t = 0; t < c.info.z * c.info.w; ++t) {
+      const gs::CardTexelGpu& texel = cardTexels_[c.first.y - tableWords + c.first.x + t];
+      out.push_back(
+          gs::packRgb9e5(p.cardTexelRadiance(inst, mesh, c, t, texel, pc.counts.y, pc.params.x,
+                                             pc.counts.w, pc.params.y, pc.counts.z)));
+    }
+  }
+  return out;
 }
 
 }  // namespace sdfstream

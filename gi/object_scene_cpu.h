@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "gi/light_cache.h"
 #include "gi/object_frame.h"
 #include "shaders/shared/card_layout.h"
 #include "shaders/shared/sdf_layout.h"
@@ -41,6 +42,13 @@ class ObjectSceneCpu {
   void setCards(std::vector<gpu_shared::CardGpu> table,
                 std::vector<gpu_shared::CardTexelGpu> texels, std::vector<std::uint32_t> light,
                 std::span<const std::uint32_t> instanceLightBases);
+
+  // shaders/card_light.glsl as C++ (card_light.comp's loop for one instance): the light of every
+  // texel of instance i's six cards, in card order, RGB9E5 as the pass writes it, lit by `lights`
+  // (cascade-0 voxels, toGpu) with shadows through `stack` and these objects. Needs setCards.
+  std::vector<std::uint32_t> cardLight(std::uint32_t instance, const CascadeStackImage& stack,
+                                       std::span<const gpu_shared::GpuLight> lights,
+                                       const LightCacheSettings& settings = {}) const;
 
  private:
   ObjectAtlasData atlas_;
