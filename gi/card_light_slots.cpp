@@ -17,7 +17,7 @@ constexpr std::int64_t kLightsChangedBoost = std::int64_t(1) << 40;
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
                                                   std::span<const std::uint32_t> meshTexels,
                                                   bool relightAll, std::uint32_t budget,
-                                                  std::uint64_t capacityTexels) {
+                                                  std::uint64_t capacityTexels, glm::vec3 viewer) {
   ++frame_;
   stats_ = {};
   if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
@@ -45,14 +45,50 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       ++it;
     }
   }
+  // Over the cap: keep the nearest instances whose blocks fit, hand out blocks nearest first,
+  // and evict the rest (their blocks return to the free lists before anyone allocates).
+  auto texelsOf = [&](const gs::ObjectInstanceGpu& inst) {
+    return inst.info.x < meshTexels.size() ? meshTexels[inst.info.x] : 0u;
+  };
+  std::uint64_t wanted = 0;
+  for (const gs::ObjectInstanceGpu& inst : instances) wanted += texelsOf(inst);
+  std::vector<std::uint32_t> order(instances.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<bool> kept(instances.size(), true);
+  if (wanted > capacityTexels) {
+    std::vector<float> distance(instances.size());
+    for (std::uint32_t i = 0; i < instances.size(); ++i) {
+      const glm::vec3 lo(instances[i].boundsMin), hi(instances[i].boundsMax);
+      distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
+    std::uint64_t sum = 0;
+    for (std::uint32_t i : order) {
+      sum += texelsOf(instances[i]);
+      kept[i] = sum <= capacityTexels;
+    }
+    for (std::uint32_t i = 0; i < instances.size(); ++i) {
+      if (kept[i]) continue;
+      auto it = blocks_.find(instances[i].info.z);
+      if (it == blocks_.end()) continue;
+      free_[it->second.mesh].push_back(it->second.base);
+      blocks_.erase(it);
+      ++stats_.evicted;
+    }
+  }
   std::vector<Candidate> candidates;
   candidates.reserve(instances.size());
-  for (std::uint32_t i = 0; i < instances.size(); ++i) {
+  for (std::uint32_t i : order) {
     gs::ObjectInstanceGpu& inst = instances[i];
     inst.info.w = gs::kNoCardLight;
     const std::uint32_t mesh = inst.info.x;
-    const std::uint32_t texels = mesh < meshTexels.size() ? meshTexels[mesh] : 0u;
+    const std::uint32_t texels = texelsOf(inst);
     if (texels == 0) continue;
+    if (!kept[i]) {
+      ++stats_.overBudget;
+      continue;
+    }
     auto it = blocks_.find(inst.info.z);
     if (it == blocks_.end()) {
       Block block;

@@ -22,6 +22,7 @@ class CardLightSlots {
     std::uint32_t relit = 0;           // instances in this frame's relight list
     std::uint32_t withCards = 0;       // instances with a light block
     std::uint32_t overBudget = 0;      // instances left without cards by the memory cap
+    std::uint32_t evicted = 0;         // blocks taken from instances farther than the kept ones
     std::uint64_t maxStaleFrames = 0;  // frames since the longest-unlit instance's last relight
     std::uint64_t liveTexels = 0;      // texels of the blocks in use
   };
@@ -34,9 +35,14 @@ class CardLightSlots {
   // relightAll (the lights changed) puts every block lit before the change ahead of those lit
   // since, oldest first among them, so lights that change every frame (a moving sun) still relight
   // every instance in turn. meshTexels[m]: texels of mesh m's cards (0: none).
+  // When the instances want more than capacityTexels, the nearest to `viewer` (stack space; the
+  // distance to their AABB) keep or get cards and the farther ones are evicted: their blocks go
+  // back to the free lists for nearer instances of the same mesh. Nearer first is also the order
+  // in which blocks are handed out then.
   std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,
                                     std::span<const std::uint32_t> meshTexels, bool relightAll,
-                                    std::uint32_t budget, std::uint64_t capacityTexels);
+                                    std::uint32_t budget, std::uint64_t capacityTexels,
+                                    glm::vec3 viewer = glm::vec3(0.0f));
 
   // Texels the atlas must hold: every block ever handed out (the high-water mark).
   std::uint64_t endTexel() const { return end_; }

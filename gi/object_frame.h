@@ -47,7 +47,8 @@ struct ObjectSceneSettings {
   // Instances whose card light is recomputed per frame at most: moved or never lit first, then
   // the longest unlit (so with N instances nothing is staler than N / budget frames).
   std::uint32_t cardRelightBudget = 256;
-  // Card light memory cap (4 bytes per texel); instances beyond it have no cards.
+  // Card light memory cap (4 bytes per texel). When the instances want more, the nearest to the
+  // camera (cascade 0's centre) keep cards and the farther ones are evicted (CardLightSlots).
   std::uint64_t cardLightBudgetBytes = 256ull << 20;
 };
 

@@ -130,14 +130,14 @@ void ObjectScene::uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& stagin
 }
 
 void ObjectScene::recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging,
-                                  bool lightsChanged) {
+                                  bool lightsChanged, glm::vec3 viewer) {
   relight_.clear();
   if (!settings_.cards) {
     for (gs::ObjectInstanceGpu& inst : frame_.instances) inst.info.w = gs::kNoCardLight;
     return;
   }
   relight_ = slots_.assign(frame_.instances, meshTexels_, lightsChanged,
-                           settings_.cardRelightBudget, settings_.cardLightBudgetBytes / 4);
+                           settings_.cardRelightBudget, settings_.cardLightBudgetBytes / 4, viewer);
   const std::size_t needed = std::size_t(slots_.endTexel()) * sizeof(std::uint32_t);
   if (cardLight_.size() < needed) {
     // Grow by half again at least; blocks already lit keep their light.
@@ -184,7 +184,12 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   if (!cardsUploaded_) uploadCards(batch, staging);
   const auto buildStart = std::chrono::steady_clock::now();
   buildObjectFrame(library, instances, stack, settings_, frame_);
-  recordCardLight(batch, staging, lightsChanged);
+  // The viewer for the cards' eviction order: cascade 0's centre (the stack is camera-centred).
+  glm::vec3 viewer(0.0f);
+  if (!stack.params.empty())
+    viewer = glm::vec3(stack.params[0].offsetScale) +
+             0.5f * float(gs::kCascadeCells) * stack.params[0].offsetScale.w;
+  recordCardLight(batch, staging, lightsChanged, viewer);
   buildMilliseconds_ = millisecondsSince(buildStart);
   timings_.clear();
 

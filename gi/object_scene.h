@@ -118,7 +118,8 @@ class ObjectScene {
   void recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                    const ObjectLibrary& library);
   void uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging);
-  void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged);
+  void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged,
+                       glm::vec3 viewer);
 
   gpu::Context& context_;
   ObjectSceneSettings settings_;

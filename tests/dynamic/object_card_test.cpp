@@ -292,6 +292,37 @@ TEST(CardLightSlots, BlocksPersistAreReusedUnderChurnAndRespectTheCap) {
   EXPECT_EQ(noCards[0].info.w, gs::kNoCardLight);
 }
 
+// Over the cap the nearest instances keep cards: moving the viewer evicts the far ones and hands
+// their blocks to the now-near ones of the same mesh, without growing past the cap.
+TEST(CardLightSlots, OverTheCapTheNearestKeepCards) {
+  CardLightSlots slots;
+  const std::uint32_t texels[1] = {10};
+  std::vector<std::uint32_t> ids(6);
+  for (std::uint32_t i = 0; i < 6; ++i) ids[i] = 100 + i;
+  auto frame = instancesOf(ids, 0, false);
+  for (std::uint32_t i = 0; i < 6; ++i) {  // unit boxes along x at 0, 10, ..., 50
+    frame[i].boundsMin = glm::vec4(10.0f * float(i), 0.0f, 0.0f, 1.0f);
+    frame[i].boundsMax = glm::vec4(10.0f * float(i) + 1.0f, 1.0f, 1.0f, 1.0f);
+  }
+  auto withCards = [&] {
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t i = 0; i < 6; ++i)
+      if (frame[i].info.w != gs::kNoCardLight) out.push_back(i);
+    return out;
+  };
+  slots.assign(frame, texels, false, 256, 30, glm::vec3(-5.0f, 0.0f, 0.0f));
+  EXPECT_EQ(withCards(), (std::vector<std::uint32_t>{0, 1, 2}));
+  EXPECT_EQ(slots.stats().overBudget, 3u);
+  slots.assign(frame, texels, false, 256, 30, glm::vec3(55.0f, 0.0f, 0.0f));
+  EXPECT_EQ(withCards(), (std::vector<std::uint32_t>{3, 4, 5}));
+  EXPECT_EQ(slots.stats().evicted, 3u);
+  EXPECT_EQ(slots.endTexel(), 30u);  // the evicted blocks were reused, nothing grew
+  // Under the cap nothing is evicted, wherever the viewer is.
+  slots.assign(frame, texels, false, 256, 60, glm::vec3(-5.0f, 0.0f, 0.0f));
+  EXPECT_EQ(withCards().size(), 6u);
+  EXPECT_EQ(slots.stats().evicted, 0u);
+}
+
 TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
   CardLightSlots slots;
   const std::uint32_t texels[1] = {10};
