@@ -7,8 +7,8 @@ namespace object_detail {
 using namespace glm;
 using namespace gpu_shared;
 
-// The GLSL becomes member functions reading this object's arrays through the OBJ_* macros.
-struct ObjectPasses {
+// The objects' buffers, named as the OBJ_* macros below read them.
+struct ObjectBindings {
   const ObjectFrameGpu* framePtr = nullptr;
   const ObjectMeshGpu* meshes = nullptr;
   const ObjectInstanceGpu* instances = nullptr;
@@ -16,6 +16,10 @@ struct ObjectPasses {
   const std::uint32_t* list = nullptr;
   const float* dist = nullptr;
   const glm::uvec2* mat = nullptr;
+};
+
+// The GLSL becomes member functions reading this object's arrays through the OBJ_* macros.
+struct ObjectPasses : ObjectBindings {
   const CardGpu* cards = nullptr;
   const CardTexelGpu* cardTexels = nullptr;  // indexed from the table's start, as on the GPU
   std::uint32_t cardTableWords = 0;
@@ -40,20 +44,13 @@ struct ObjectPasses {
 
 // The card light pass: the static stack's SDF macros and the objects' together, as
 // card_light.comp binds them (its shadow rays see both).
-struct CardLightPasses {
+struct CardLightPasses : ObjectBindings {
   const std::uint32_t* pageTable = nullptr;
   const std::uint32_t* distanceAtlas = nullptr;
   const std::uint32_t* albedoAtlas = nullptr;
   const std::uint32_t* emissionAtlas = nullptr;
   const CascadeTraceParams* cascades = nullptr;
   const GpuLight* lights = nullptr;
-  const ObjectFrameGpu* framePtr = nullptr;
-  const ObjectMeshGpu* meshes = nullptr;
-  const ObjectInstanceGpu* instances = nullptr;
-  const ObjectRegionGpu* regions = nullptr;
-  const std::uint32_t* list = nullptr;
-  const float* dist = nullptr;
-  const glm::uvec2* mat = nullptr;
 
 #define SDF_PRECISE
 #define SDF_PAGE(i) pageTable[i]
@@ -102,10 +99,11 @@ namespace gs = gpu_shared;
 using object_detail::ObjectPasses;
 
 namespace {
-ObjectPasses passesOf(const ObjectAtlasData& atlas, const ObjectFrameData& frame,
-                      const std::vector<gs::ObjectRegionGpu>& regions,
-                      const std::vector<std::uint32_t>& flat) {
-  ObjectPasses p;
+template <typename Passes>
+Passes passesOf(const ObjectAtlasData& atlas, const ObjectFrameData& frame,
+                const std::vector<gs::ObjectRegionGpu>& regions,
+                const std::vector<std::uint32_t>& flat) {
+  Passes p;
   p.framePtr = &frame.frame;
   p.meshes = atlas.meshes.data();
   p.instances = frame.instances.data();
@@ -135,7 +133,7 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
   const std::size_t regionCount = std::size_t(cascades) * gs::kRegionsPerCascade;
   lists_.assign(regionCount, {});
   regions_.assign(regionCount, gs::ObjectRegionGpu{});
-  ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const glm::vec4 ro = frame_.frame.regionOrigin[c];
     for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) {
@@ -166,7 +164,7 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
 }
 
 bool ObjectSceneCpu::wakes(glm::vec3 stackPoint, std::uint32_t cascade) const {
-  ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
   return p.objMovedNear(stackPoint, cascade);
 }
 
@@ -181,7 +179,7 @@ void ObjectSceneCpu::setCards(std::vector<gs::CardGpu> table, std::vector<gs::Ca
 }
 
 gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray) const {
-  ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
   bindCards(p, cardTable_, cardTexels_, cardLight_);
   const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
   return object_detail::toHit(p, p.objTraceRegions(o, d, ray.originTMin.w, ray.dirTMax.w, 0u), o,
@@ -189,15 +187,11 @@ gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray) const {
 }
 
 gs::ObjectTraceHit ObjectSceneCpu::traceAll(const gs::TraceRay& ray) const {
-  ObjectPasses p = passesOf(atlas_, frame_, regions_, flat_);
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
   bindCards(p, cardTable_, cardTexels_, cardLight_);
   const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
   return object_detail::toHit(p, p.objTraceAll(o, d, ray.originTMin.w, ray.dirTMax.w), o, d);
 }
-
-}  // namespace sdfstream
-
-namespace sdfstream {
 
 std::vector<std::uint32_t> ObjectSceneCpu::cardLight(std::uint32_t instance,
                                                      const CascadeStackImage& stack,
@@ -205,20 +199,13 @@ std::vector<std::uint32_t> ObjectSceneCpu::cardLight(std::uint32_t instance,
                                                      const LightCacheSettings& settings) const {
   std::vector<std::uint32_t> out;
   if (cardTable_.empty() || instance >= frame_.instances.size()) return out;
-  object_detail::CardLightPasses p;
+  auto p = passesOf<object_detail::CardLightPasses>(atlas_, frame_, regions_, flat_);
   p.pageTable = stack.pageTables.data();
   p.distanceAtlas = stack.distanceAtlas->data();
   p.albedoAtlas = stack.albedoAtlas->data();
   p.emissionAtlas = stack.emissionAtlas->data();
   p.cascades = stack.params.data();
   p.lights = lights.data();
-  p.framePtr = &frame_.frame;
-  p.meshes = atlas_.meshes.data();
-  p.instances = frame_.instances.data();
-  p.regions = regions_.data();
-  p.list = flat_.data();
-  p.dist = atlas_.distance.data();
-  p.mat = atlas_.material.data();
   const gs::LightCachePushConstants pc =
       lightCachePushConstants(settings, 1, std::uint32_t(lights.size()),
                               std::uint32_t(stack.params.size()), gs::GpuSky{}, stack.voxelSize0);
