@@ -61,15 +61,19 @@ vec3 probeRelocate(uint cascade, uint cascadeCount, vec3 gridPos, float spacing,
 }
 
 #ifdef OBJ_FRAME
+// Whether a probe may stand where the static SDF reads s: not inside static geometry, and not
+// outside every window (nothing would be known about it there).
+bool probeSdfOpen(ProbeSdf s) { return s.distance >= 0.0f && (s.resident || s.distance > 0.0f); }
+
 // Relocation away from moving objects, as probeRelocate does from the static SDF: a probe closer
 // than minDistance to the nearest listed object (inside it included) steps along that object's
-// distance gradient, within the same 0.45-spacing limit, never into static geometry. Objects
-// smaller than minDistance (bounding radius) are left out: they shade little of a probe's sphere,
-// and relocating around every small mover costs a hit-cache flush per move (the H200 stress
-// scene of 0.3-2 m objects: 16x the fresh rays at 10,000 objects). A probe on
+// distance gradient, within the same 0.45-spacing limit, never into static geometry. A probe on
 // an object's face would otherwise be off, and the receivers beside the face would read only the
 // probes a whole spacing away (the bounce right at the face is the strongest). Probes deeper
-// inside than the limit allows stay inside and are turned off.
+// inside than the limit allows stay inside and are turned off. Objects smaller than minDistance
+// (bounding radius) are left out: they shade little of a probe's sphere, and relocating around
+// every small mover costs a hit-cache flush per move (the H200 stress scene of 0.3-2 m objects:
+// 16x the fresh rays at 10,000 objects).
 vec3 probeRelocateFromObjects(uint cascade, uint cascadeCount, vec3 gridPos, vec3 offset,
                               float spacing, float minDistance) {
   float limit = 0.45f * spacing;
@@ -89,9 +93,7 @@ vec3 probeRelocateFromObjects(uint cascade, uint cascadeCount, vec3 gridPos, vec
     grad = normalize(grad);
     vec3 next = clamp(offset + grad * (minDistance - near.x), vec3(-limit), vec3(limit));
     if (next == offset) break;
-    ProbeSdf there = probeSdfAt(cascade, cascadeCount, gridPos + next);
-    // Never into static geometry, nor out of every window (as probeRelocate).
-    if (there.distance < 0.0f || (!there.resident && there.distance == 0.0f)) break;
+    if (!probeSdfOpen(probeSdfAt(cascade, cascadeCount, gridPos + next))) break;
     offset = next;
   }
   return offset;
@@ -252,9 +254,8 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       float minDistance = f.trace.y * spacing;
       vec3 previous = vec3(oldData);
       if (objNearestListed(grid + offset, c, minDistance).x < minDistance) {
-        ProbeSdf there = probeSdfAt(c, f.counts.x, grid + previous);
-        bool keep = !entered && previous != offset && there.distance >= 0.0f &&
-                    (there.resident || there.distance > 0.0f) &&
+        bool keep = !entered && previous != offset &&
+                    probeSdfOpen(probeSdfAt(c, f.counts.x, grid + previous)) &&
                     objNearestListed(grid + previous, c, minDistance).x >= minDistance;
         offset = keep ? previous
                       : probeRelocateFromObjects(c, f.counts.x, grid, offset, spacing, minDistance);
