@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <mutex>
 #include <string>
 
@@ -13,6 +15,7 @@
 #include "core/printable.h"
 #include "world/color_pack.h"
 #include "world/level_set_bricks.h"
+#include "world/vdb_preflight.h"
 
 namespace sdfstream {
 namespace {
@@ -47,26 +50,26 @@ bool looksLikeLevelSet(const openvdb::FloatGrid& grid) {
 }
 
 std::string describe(const openvdb::GridBase& grid) {
-  // Grid names and value types come from the file: printable keeps the error one line.
-  const std::string name = "'" + printable(grid.getName()) + "'";
-  if (grid.valueType().rfind("ptdataidx", 0) == 0) return "point data " + name;
-  std::string cls = grid.getGridClass() == openvdb::GRID_UNKNOWN
-                        ? std::string("grid")
-                        : openvdb::GridBase::gridClassToString(grid.getGridClass());
-  return cls + " " + name + " (" + printable(grid.valueType()) + ")";
+  return describeVdbGrid(grid.getName(), openvdb::GridBase::gridClassToString(grid.getGridClass()),
+                         grid.valueType());
 }
 
-}  // namespace
-
-namespace {
-
-// What a skipped grid is, for the one-line note of readLevelSetGrids: "fog volume", "point data".
+// What a skipped float grid is, for the one-line note of readLevelSetGrids: "fog volume".
 std::string kindOf(const openvdb::GridBase& grid) {
-  if (grid.valueType().rfind("ptdataidx", 0) == 0) return "point data";
-  if (grid.getGridClass() != openvdb::GRID_UNKNOWN)
-    return openvdb::GridBase::gridClassToString(grid.getGridClass());
-  if (grid.isType<openvdb::FloatGrid>()) return "float grid, not a level set";
-  return printable(grid.valueType()) + " grid";
+  if (grid.getGridClass() == openvdb::GRID_UNKNOWN) return "float grid, not a level set";
+  return vdbGridKind(openvdb::GridBase::gridClassToString(grid.getGridClass()), grid.valueType());
+}
+
+std::string readWholeFile(const std::filesystem::path& path, const std::string& file) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(InputErrorKind::Io, file, "cannot open");
+  std::string bytes;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec) bytes.reserve(size);
+  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(InputErrorKind::Io, file, "read failed");
+  return bytes;
 }
 
 }  // namespace
@@ -78,19 +81,31 @@ LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
     throw InputError(InputErrorKind::Io, file, "cannot open: no such file");
   initializeOpenVdb();
 
+  // OpenVDB allocates and loops over whatever lengths the file declares: the preflight checks
+  // them all first (vdb_preflight.h), and OpenVDB reads only the float grids it vouched for.
+  VdbPreflight checked = preflightVdb(readWholeFile(path, file), file);
   LevelSetFile out;
+  std::vector<std::string> holds(checked.order.size());
   try {
-    // io::Stream over our own ifstream rather than io::File: OpenVDB's readers do not all check
-    // for end of file, so a truncated file can otherwise load silently as a partial grid. After
-    // reading every grid the stream must not have failed.
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(InputErrorKind::Io, file, "cannot open");
-    openvdb::io::Stream vdb(in, /*delayLoad=*/false);
-    openvdb::GridPtrVecPtr grids = vdb.getGrids();
-    if (!in || !grids)
-      throw InputError(InputErrorKind::Truncated, file, "file ends before its last grid");
-    std::string holds;
-    for (const openvdb::GridBase::Ptr& g : *grids) {
+    openvdb::GridPtrVecPtr grids;
+    if (checked.floatGridCount > 0) {
+      // io::Stream rather than io::File: OpenVDB's readers do not all check for the end of the
+      // input; after reading every grid the stream must not have failed.
+      std::istringstream in(std::move(checked.floatGridBytes), std::ios::binary);
+      openvdb::io::Stream vdb(in, /*delayLoad=*/false);
+      grids = vdb.getGrids();
+      if (!in || !grids || grids->size() != checked.floatGridCount)
+        throw InputError(InputErrorKind::Truncated, file, "file ends before its last grid");
+    }
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < checked.order.size(); ++i) {
+      if (checked.order[i] >= 0) {
+        const VdbOtherGrid& other = checked.others[std::size_t(checked.order[i])];
+        holds[i] = other.description;
+        out.skipped.push_back(other.name + " (" + other.kind + ")");
+        continue;
+      }
+      const openvdb::GridBase::Ptr& g = (*grids)[next++];
       auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
       const bool labelled = f && f->getGridClass() == openvdb::GRID_LEVEL_SET;
       if (labelled || (f && f->getGridClass() == openvdb::GRID_UNKNOWN && looksLikeLevelSet(*f))) {
@@ -98,18 +113,22 @@ LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
         out.labelled.push_back(labelled);
         continue;
       }
-      holds += (holds.empty() ? "" : ", ") + describe(*g);
+      holds[i] = describe(*g);
       out.skipped.push_back("'" + printable(g->getName()) + "' (" + kindOf(*g) + ")");
     }
-    if (out.grids.empty())
-      throw InputError(
-          InputErrorKind::NotLevelSet, file,
-          "holds " + (holds.empty() ? std::string("no grids") : holds) + ", no float level set");
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {  // openvdb::Exception (IoError, ...) and std exceptions
     throw InputError(InputErrorKind::Truncated, file,
                      "truncated or corrupt .vdb: " + printable(e.what()));
+  }
+  if (out.grids.empty()) {
+    std::string list;
+    for (const std::string& h : holds)
+      if (!h.empty()) list += (list.empty() ? "" : ", ") + h;
+    throw InputError(
+        InputErrorKind::NotLevelSet, file,
+        "holds " + (list.empty() ? std::string("no grids") : list) + ", no float level set");
   }
   return out;
 }
