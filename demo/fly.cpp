@@ -20,6 +20,7 @@
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "demo/moving_objects.h"
+#include "gpu/context.h"
 #include "gi/camera.h"
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
@@ -221,10 +222,43 @@ class FlyThrough {
   GiFrameStats giUpdate(const Camera& cam) {
     std::vector<std::uint32_t> dirty = stack_.takeDirtySlots();
     if (!renderer_) return GiFrameStats{};
+    if (reuploadAtlas_) {  // the atlas was given back and reserved again: it holds nothing
+      dirty.resize(stack_.atlasSlots());
+      for (std::uint32_t s = 0; s < stack_.atlasSlots(); ++s) dirty[s] = s;
+      reuploadAtlas_ = false;
+    }
     probe::ProbeFrameInputs inputs;
     inputs.cameraWorld = cam.position;
     inputs.viewDirection = glm::vec3(glm::normalize(cam.target - cam.position));
     return renderer_->update(stack_, dirty, render_.lights, inputs, giFrame_++);
+  }
+
+  // The GPU part of a frame (GI update, and the image when this frame is written). When the
+  // device runs out of memory mid-run (another process took it, or a pass grew), the brick
+  // atlas, the one large buffer whose size is a choice, gives back half its slots and the GPU
+  // part runs again: fewer resident bricks (the rest count as atlas-full pages), not a crash.
+  // At the atlas's floor the error stands.
+  template <typename Work>
+  void withinDeviceMemory(int f, const Work& work) {
+    for (;;) {
+      try {
+        work();
+        return;
+      } catch (const gpu::OutOfDeviceMemory& e) {
+        if (!renderer_) throw;
+        const std::uint32_t before = stack_.atlasSlots();
+        const std::uint32_t got = renderer_->shrinkAtlasSlots(before / 2);  // throws at the floor
+        stack_.limitAtlasSlots(got);
+        if (!atlasSlotsWanted_) atlasSlotsWanted_ = before;
+        ++atlasShrinks_;
+        reuploadAtlas_ = true;
+        std::fprintf(stderr,
+                     "note: frame %d ran out of device memory (%s): the brick atlas keeps %u of "
+                     "its %u slots (%.1f MiB); fewer bricks stay resident, the rest are counted "
+                     "as atlas-full pages\n",
+                     f, e.what(), got, before, double(stack_.atlasBytes()) / (1 << 20));
+      }
+    }
   }
 
   // Stream, move the objects, update the GI, and render when this frame is written.
@@ -242,11 +276,13 @@ class FlyThrough {
     GiFrameMetrics g;
     g.frame = f;
     if (objects_) objects_->apply(seconds);  // the GI update below consumes the moves
-    g.gi = giUpdate(cam);
-    if (renderer_) g.probePasses = renderer_->lastTimes().probePasses;
-    m.gpuBytes =
-        stack_.atlasBytes() + std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
-    if (f % o_.imageEvery == 0 || f == o_.frames - 1) render(f, cam, m, g);
+    withinDeviceMemory(f, [&] {
+      g.gi = giUpdate(cam);
+      if (renderer_) g.probePasses = renderer_->lastTimes().probePasses;
+      m.gpuBytes = stack_.atlasBytes() +
+                   std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
+      if (f % o_.imageEvery == 0 || f == o_.frames - 1) render(f, cam, m, g);
+    });
     m.loader = loader_.takeStats();
     lastStream_ = m.stream;
     lastCachedTiles_ = m.loader.cachedTiles;
@@ -364,11 +400,18 @@ class FlyThrough {
   std::size_t lastCachedTiles_ = 0;
   std::uint64_t nonFinitePixels_ = 0, renderedPixels_ = 0;
   std::uint32_t atlasSlotsWanted_ = 0;  // non-zero: the device held fewer slots (reserveAtlas)
+  int atlasShrinks_ = 0;                // mid-run shrinks after running out of device memory
+  bool reuploadAtlas_ = false;          // the next GI update uploads every slot
 
   std::string degradedNote() const {
     if (!atlasSlotsWanted_) return "";
-    return " Device memory held " + std::to_string(stack_.atlasSlots()) + " of the " +
-           std::to_string(atlasSlotsWanted_) + " atlas slots asked for (fewer resident bricks).";
+    std::string note = " Device memory held " + std::to_string(stack_.atlasSlots()) + " of the " +
+                       std::to_string(atlasSlotsWanted_) +
+                       " atlas slots asked for (fewer resident bricks)";
+    if (atlasShrinks_ > 0)
+      note += "; the atlas shrank " + std::to_string(atlasShrinks_) +
+              (atlasShrinks_ == 1 ? " time" : " times") + " mid-run when the device ran out of memory";
+    return note + ".";
   }
   std::vector<GiFrameMetrics> giMetrics_;
 };

@@ -302,6 +302,10 @@ std::uint32_t GiRenderer::reserveAtlasSlots(std::uint32_t slots) {
   return gi_ ? gi_->reserveAtlasSlots(slots) : scene_->reserveAtlas(slots);
 }
 
+std::uint32_t GiRenderer::shrinkAtlasSlots(std::uint32_t slots) {
+  return gi_ ? gi_->shrinkAtlasSlots(slots) : scene_->shrinkAtlas(slots);
+}
+
 const ObjectScene* GiRenderer::objectScene() const {
   if (!objectLibrary_) return nullptr;
   return gi_ ? &gi_->objects() : objects_.get();

@@ -194,6 +194,10 @@ class GiRenderer {
   // The atlas slots the device could hold, at most `slots` (GpuStackScene::reserveAtlas): call
   // before the first update and keep the stack within them (CascadeStack::limitAtlasSlots).
   std::uint32_t reserveAtlasSlots(std::uint32_t slots);
+  // After an update ran out of device memory (gpu::OutOfDeviceMemory): the atlas again, for at
+  // most `slots` slots (GpuStackScene::shrinkAtlas); keep the stack within the result and pass
+  // every resident slot as dirty to the next update.
+  std::uint32_t shrinkAtlasSlots(std::uint32_t slots);
 
  private:
   const GpuStackScene& scene() const;

@@ -117,6 +117,9 @@ class GiSystem {
   const GpuStackScene& scene() const { return scene_; }
   // GpuStackScene::reserveAtlas: the atlas slots the device could hold, at most `slots`.
   std::uint32_t reserveAtlasSlots(std::uint32_t slots) { return scene_.reserveAtlas(slots); }
+  // GpuStackScene::shrinkAtlas, after a frame ran out of device memory (nothing is in flight:
+  // frames of update() are blocking).
+  std::uint32_t shrinkAtlasSlots(std::uint32_t slots) { return scene_.shrinkAtlas(slots); }
   const LightCache& lightCache() const { return light_; }
   const probe::ProbeField& probes() const { return probes_; }
   probe::ProbeField& probes() { return probes_; }

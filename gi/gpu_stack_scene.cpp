@@ -95,6 +95,13 @@ std::uint32_t GpuStackScene::reserveAtlas(std::uint32_t slots) {
   }
 }
 
+std::uint32_t GpuStackScene::shrinkAtlas(std::uint32_t slots) {
+  distance_ = gpu::Buffer();
+  albedo_ = gpu::Buffer();
+  emission_ = gpu::Buffer();
+  return reserveAtlas(slots);
+}
+
 std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                                       const CascadeStack& stack,
                                       std::span<const std::uint32_t> dirty) {

@@ -40,6 +40,11 @@ class GpuStackScene {
   // (then it rethrows). Returns the slots it could allocate; uploads never grow the atlas past
   // them, so the caller must keep the stack within them (CascadeStack::limitAtlasSlots).
   std::uint32_t reserveAtlas(std::uint32_t slots);
+  // Mid-run, when the device ran out of memory: gives the atlas buffers back and reserves them
+  // again for at most `slots` slots (reserveAtlas's halving and floor). The device atlas then
+  // holds nothing: the caller must keep the stack within the returned slots and upload every
+  // resident slot again.
+  std::uint32_t shrinkAtlas(std::uint32_t slots);
   const gpu::Buffer& pageTables() const { return pageTables_; }
   const gpu::Buffer& distance() const { return distance_; }
   const gpu::Buffer& albedo() const { return albedo_; }

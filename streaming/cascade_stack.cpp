@@ -43,9 +43,15 @@ double CascadeStack::voxelSize(int c) const { return store_.spec().lodVoxelSize(
 void CascadeStack::limitAtlasSlots(std::uint32_t slots) {
   if (slots >= options_.atlasSlots) return;
   for (Cascade& c : cascades_)
-    for (std::uint32_t& e : c.entries)
-      if ((e & layout::kPageResidentBit) && (e & layout::kPagePayloadMask) >= slots)
-        e = layout::kPageMissing;
+    for (std::uint32_t page = 0; page < c.entries.size(); ++page) {
+      std::uint32_t& e = c.entries[page];
+      if (!(e & layout::kPageResidentBit) || (e & layout::kPagePayloadMask) < slots) continue;
+      e = layout::kPageMissing;
+      if (!c.pending[page]) {  // asked for again: into a slot below, or counted atlas-full
+        c.pending[page] = 1;
+        ++c.pendingCount;
+      }
+    }
   freeSlots_.erase(std::remove_if(freeSlots_.begin(), freeSlots_.end(),
                                   [&](std::uint32_t s) { return s >= slots; }),
                    freeSlots_.end());

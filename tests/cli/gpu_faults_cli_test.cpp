@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
@@ -87,6 +89,20 @@ TEST(CliGpuFaults, AtlasBudgetBeyondTheDeviceIsRefusedAtStartUp) {
   EXPECT_EQ(lineCount(silly.err), 1) << silly.err;
 }
 
+// The live GPU buffers (MiB) of fly's progress lines, in order.
+std::vector<double> liveGpuMiB(const std::string& err) {
+  std::vector<double> mib;
+  for (std::size_t at = err.find("GPU buffers "); at != std::string::npos;
+       at = err.find("GPU buffers ", at + 1))
+    mib.push_back(std::stod(err.substr(at + 12)));
+  return mib;
+}
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
 // The device pretends to have less memory than the GI and the atlas need together
 // (SDFSTREAM_INJECT_DEVICE_MEMORY_MIB): fly keeps fewer atlas slots, says so, finishes, and the
 // summary reports it, instead of dying on the allocation.
@@ -101,11 +117,9 @@ TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
   test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
                                                          (dir / "full").string() + args);
   ASSERT_EQ(full.exitCode, 0) << full.err;
-  double needed = 0.0;
-  for (std::size_t at = full.err.find("GPU buffers "); at != std::string::npos;
-       at = full.err.find("GPU buffers ", at + 1))
-    needed = std::max(needed, std::stod(full.err.substr(at + 12)));
-  ASSERT_GT(needed, 0.0) << full.err;
+  const std::vector<double> live = liveGpuMiB(full.err);
+  ASSERT_FALSE(live.empty()) << full.err;
+  const double needed = *std::max_element(live.begin(), live.end());
   // 20 MiB short: the 32 MiB atlas does not fit, a quarter of it does.
   const std::string budget = std::to_string(int(needed) - 20);
   test::CliResult lean = test::runCli(
@@ -114,9 +128,51 @@ TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
   EXPECT_EQ(lean.exitCode, 0) << lean.err;
   EXPECT_NE(lean.err.find("note: the device's memory holds"), std::string::npos) << lean.err;
   EXPECT_EQ(lean.err.find("error"), std::string::npos) << lean.err;
-  std::ifstream summary(dir / "lean" / "summary.md");
-  const std::string text((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
+  const std::string text = readText(dir / "lean" / "summary.md");
   EXPECT_NE(text.find("Device memory held"), std::string::npos) << text;
+}
+
+// The device runs out of memory after the first frame (passes grow their buffers on first use,
+// past the injected limit): the brick atlas gives back half its slots, the frame runs again, the
+// run finishes with fewer resident bricks, counted as atlas-full pages, instead of an error.
+TEST(CliGpuFaults, RunningOutOfDeviceMemoryMidRunShrinksTheAtlasAndFinishes) {
+  const fs::path dir = smallWorld("cli-device-oom-mid-run");
+  const std::string world = (dir / "world").string();
+  const std::string args = " --frames 6 --width 32 --height 24 --no-pacing --objects 0 "
+                           "--atlas-mib 32 --probe-budget 4096";
+  test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
+                                                         (dir / "full").string() + args);
+  ASSERT_EQ(full.exitCode, 0) << full.err;
+  const std::vector<double> live = liveGpuMiB(full.err);
+  ASSERT_GE(live.size(), 2u) << full.err;
+  const double peak = *std::max_element(live.begin(), live.end());
+  // Frame 1 fits (its atlas included); a later frame's growth does not.
+  ASSERT_GE(peak - live.front(), 4.0) << full.err;
+  const std::string budget = std::to_string(int((live.front() + peak) / 2));
+  test::CliResult lean = test::runCli(
+      "SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=" + budget + " timeout 300 " + SDFSTREAM_CLI,
+      "fly " + world + " -o " + (dir / "lean").string() + args);
+  EXPECT_EQ(lean.exitCode, 0) << lean.err;
+  EXPECT_EQ(lean.err.find("note: the device's memory holds"), std::string::npos) << lean.err;
+  EXPECT_NE(lean.err.find("ran out of device memory"), std::string::npos) << lean.err;
+  EXPECT_EQ(lean.err.find("error"), std::string::npos) << lean.err;
+  EXPECT_NE(readText(dir / "lean" / "summary.md").find("mid-run when the device ran out of memory"),
+            std::string::npos);
+  // The bricks that no longer fit are counted, not lost silently.
+  const std::string metrics = readText(dir / "lean" / "metrics.csv");
+  std::istringstream rows(metrics);
+  std::string header, row;
+  std::getline(rows, header);
+  int column = 0;
+  for (std::size_t at = 0; at < header.find("atlas_full_pages"); ++at) column += header[at] == ',';
+  std::uint64_t atlasFull = 0;
+  while (std::getline(rows, row)) {
+    std::istringstream cells(row);
+    std::string cell;
+    for (int c = 0; c <= column; ++c) std::getline(cells, cell, ',');
+    atlasFull += std::stoull(cell);
+  }
+  EXPECT_GT(atlasFull, 0u) << metrics;
 }
 
 }  // namespace
