@@ -166,8 +166,8 @@ World vdbToWorld(const std::filesystem::path& path, double voxelSizeOverride,
     auto out = openvdb::FloatGrid::create(float(layout::kNarrowBand * voxelSize));
     out->setTransform(openvdb::math::Transform::createLinearTransform(voxelSize));
     out->setGridClass(openvdb::GRID_LEVEL_SET);
-    grid->setGridClass(openvdb::GRID_LEVEL_SET);  // unlabelled fallback grids too
     try {
+      grid->setGridClass(openvdb::GRID_LEVEL_SET);  // unlabelled fallback grids too
       openvdb::tools::resampleToMatch<openvdb::tools::BoxSampler>(*grid, *out);
     } catch (const std::exception& e) {
       throw InputError(InputErrorKind::Malformed, file,

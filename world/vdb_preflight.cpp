@@ -120,6 +120,24 @@ struct MetaWalk {
   }
 };
 
+// The metadata OpenVDB itself reads or writes by name (GridBase::META_*): an entry of another
+// type under such a name makes OpenVDB throw later, outside any read (setGridClass of a grid
+// whose "class" is an int64, found by fuzzing).
+const char* reservedMetaType(const std::string& name) {
+  using namespace openvdb;
+  if (name == GridBase::META_GRID_CLASS || name == GridBase::META_GRID_NAME ||
+      name == GridBase::META_GRID_CREATOR || name == GridBase::META_VECTOR_TYPE ||
+      name == GridBase::META_FILE_COMPRESSION)
+    return "string";
+  if (name == GridBase::META_SAVE_HALF_FLOAT || name == GridBase::META_IS_LOCAL_SPACE)
+    return "bool";
+  if (name == GridBase::META_FILE_BBOX_MIN || name == GridBase::META_FILE_BBOX_MAX) return "vec3i";
+  if (name == GridBase::META_FILE_MEM_BYTES || name == GridBase::META_FILE_VOXEL_COUNT)
+    return "int64";
+  if (name == GridBase::META_FILE_DELAYED_LOAD) return "__delayedload";
+  return nullptr;
+}
+
 MetaWalk walkMeta(Cursor& c, const std::string& bytes, const std::string& what) {
   MetaWalk walk;
   const auto count = c.get<std::uint32_t>(what + " count");
@@ -131,6 +149,9 @@ MetaWalk walkMeta(Cursor& c, const std::string& bytes, const std::string& what) 
     const std::string name = c.string(what + " name");
     const std::string entry = what + " '" + printable(name) + "'";
     const std::string type = c.string(entry + " type name");
+    if (const char* expected = reservedMetaType(name); expected && type != expected)
+      c.fail(InputErrorKind::Malformed, entry + " has type '" + printable(type) +
+                                            "' where OpenVDB expects " + expected);
     const auto size = c.get<std::uint32_t>(entry + " value size");
     c.need(size, entry + " value");
     if (type == openvdb::io::DelayedLoadMetadata::staticTypeName()) {

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "tests/support/test_data.h"
 #include "world/level_set_bricks.h"
+#include "world/vdb_import.h"
 #include "world/vdb_preflight.h"
 
 namespace sdfstream {
@@ -251,6 +252,28 @@ TEST(VdbPreflight, HeaderAndMetadataLies) {
 
   for (std::size_t cut : {std::size_t(3), std::size_t(60), good.size() / 2, good.size() - 1})
     EXPECT_EQ(preflightError(good.substr(0, cut)).kind(), InputErrorKind::Truncated) << cut;
+}
+
+// Fuzz findings (vdb_fuzz, 620 s on the H200 host): a grid whose "class" metadata is stored
+// with another type ("3tring", "int64g"). OpenVDB read the grid, then threw a TypeError from
+// setGridClass during the import's resampling, outside any reader.
+TEST(VdbPreflight, ReservedMetadataOfAnotherTypeIsMalformed) {
+  for (const char* name :
+       {"fuzz-vdb-class-of-another-type-1.vdb", "fuzz-vdb-class-of-another-type-2.vdb"}) {
+    const fs::path path = test::sourceDir() / "tests/world/data" / name;
+    try {
+      vdbToWorld(path, /*voxelSizeOverride=*/1.0, {});
+      ADD_FAILURE() << name << " imported";
+    } catch (const InputError& e) {
+      std::printf("[ preflight ] %s\n", e.what());
+      EXPECT_EQ(e.kind(), InputErrorKind::Malformed) << e.what();
+      EXPECT_NE(std::string(e.what()).find("'class' has type"), std::string::npos) << e.what();
+    }
+  }
+  std::string bytes = writeVdb("class.vdb", {sphere()}, openvdb::io::COMPRESS_BLOSC);
+  const std::size_t type = after(bytes, "class");
+  bytes[type + 4] = 'S';  // "String": not OpenVDB's "string"
+  EXPECT_EQ(preflightError(bytes).kind(), InputErrorKind::Malformed);
 }
 
 }  // namespace
