@@ -389,7 +389,9 @@ VdbPreflight preflightVdb(const std::string& bytes, const std::string& file) {
       if (endPos < 0 || std::uint64_t(endPos) > bytes.size())
         c.fail(InputErrorKind::Truncated, "its data ends at byte " + std::to_string(endPos) +
                                               ", the file has " + std::to_string(bytes.size()));
-      if (gridPos != std::int64_t(descriptorEnd) || blockPos < gridPos || endPos < blockPos)
+      // An instance (a grid sharing a tree written before it) stores no buffers: block position 0.
+      const bool blockOk = parent.empty() ? blockPos >= gridPos && endPos >= blockPos : true;
+      if (gridPos != std::int64_t(descriptorEnd) || endPos < gridPos || !blockOk)
         c.fail(InputErrorKind::Malformed,
                "its descriptor places it at bytes " + std::to_string(gridPos) + ".." +
                    std::to_string(endPos) + " (buffers from " + std::to_string(blockPos) +
@@ -423,7 +425,8 @@ VdbPreflight preflightVdb(const std::string& bytes, const std::string& file) {
     walkTransform(c);
     std::size_t topologyEnd = c.pos();
     if (parent.empty()) topologyEnd = FloatTreeWalk(c, compression, half).walk();
-    if (hasGridOffsets && (topologyEnd != std::size_t(blockPos) || c.pos() != std::size_t(endPos)))
+    const bool blockMatches = !parent.empty() || topologyEnd == std::size_t(blockPos);
+    if (hasGridOffsets && (!blockMatches || c.pos() != std::size_t(endPos)))
       c.fail(InputErrorKind::Malformed,
              "its topology and buffers end at bytes " + std::to_string(topologyEnd) + " and " +
                  std::to_string(c.pos()) + ", its descriptor says " + std::to_string(blockPos) +
@@ -439,7 +442,7 @@ VdbPreflight preflightVdb(const std::string& bytes, const std::string& file) {
       const std::int64_t shift = newGridPos - gridPos + std::int64_t(rebuiltMeta.size()) -
                                  std::int64_t(metaBytes);
       offsets[0] = newGridPos;
-      offsets[1] = blockPos + shift;
+      offsets[1] = parent.empty() ? blockPos + shift : blockPos;
       offsets[2] = endPos + shift;
     }
     appendBytes(o, offsets, sizeof offsets);

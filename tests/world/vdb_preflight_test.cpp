@@ -143,6 +143,21 @@ TEST(VdbPreflight, OtherGridTypesAreCutOutAndNamed) {
   EXPECT_EQ(f.skipped, (std::vector<std::string>{"'velocity' (vec3s grid)", "'ids' (staggered)"}));
 }
 
+// A grid sharing another's tree is written as an instance: its descriptor names the parent and
+// its data is only metadata and a transform. Both read back with the same tree.
+TEST(VdbPreflight, InstancedGridsPassAndShareTheirTree) {
+  const openvdb::FloatGrid::Ptr surface = sphere();
+  openvdb::GridBase::Ptr copy = surface->copyGrid();  // shares the tree
+  copy->setName("copy");
+  const std::string bytes = writeVdb("instanced.vdb", {surface, copy}, openvdb::io::COMPRESS_BLOSC);
+  ASSERT_NE(bytes.find("surface"), std::string::npos);
+  const VdbPreflight checked = preflightVdb(bytes, "instanced.vdb");
+  EXPECT_EQ(checked.floatGridCount, 2u);
+  const LevelSetFile f = readLevelSetGrids(scratch() / "instanced.vdb");
+  ASSERT_EQ(f.grids.size(), 2u);
+  EXPECT_EQ(f.grids[1]->activeVoxelCount(), surface->activeVoxelCount());
+}
+
 // A file written as a stream has no grid offsets: float grids are walked to their end, any other
 // grid cannot be skipped and is refused by name.
 TEST(VdbPreflight, StreamWrittenFilesReadTheirFloatGridsAndRefuseOthers) {
