@@ -88,13 +88,13 @@ LevelSetFile readLevelSetGrids(const std::filesystem::path& path) {
   std::vector<std::string> holds(checked.order.size());
   try {
     openvdb::GridPtrVecPtr grids;
-    if (checked.floatGridCount > 0) {
+    if (checked.floatGridCount() > 0) {
       // io::Stream rather than io::File: OpenVDB's readers do not all check for the end of the
       // input; after reading every grid the stream must not have failed.
       std::istringstream in(std::move(checked.floatGridBytes), std::ios::binary);
       openvdb::io::Stream vdb(in, /*delayLoad=*/false);
       grids = vdb.getGrids();
-      if (!in || !grids || grids->size() != checked.floatGridCount)
+      if (!in || !grids || grids->size() != checked.floatGridCount())
         throw InputError(InputErrorKind::Truncated, file, "file ends before its last grid");
     }
     std::size_t next = 0;

@@ -313,10 +313,6 @@ class FloatTreeWalk {
   bool half_;
 };
 
-void appendBytes(std::string& out, const void* p, std::size_t n) {
-  out.append(static_cast<const char*>(p), n);
-}
-
 }  // namespace
 
 std::string vdbGridKind(const std::string& gridClass, const std::string& valueType) {
@@ -445,14 +441,13 @@ VdbPreflight preflightVdb(const std::string& bytes, const std::string& file) {
       offsets[1] = parent.empty() ? blockPos + shift : blockPos;
       offsets[2] = endPos + shift;
     }
-    appendBytes(o, offsets, sizeof offsets);
+    o.append(reinterpret_cast<const char*>(offsets), sizeof offsets);
     o.append(bytes, compressionAt, metaBegin - compressionAt);
     o += rebuiltMeta;
     o.append(bytes, transformBegin, c.pos() - transformBegin);
     out.order.push_back(-1);
-    ++out.floatGridCount;
   }
-  const auto kept = static_cast<std::int32_t>(out.floatGridCount);
+  const auto kept = static_cast<std::int32_t>(out.floatGridCount());
   std::memcpy(out.floatGridBytes.data() + countAt, &kept, sizeof kept);
   return out;
 }

@@ -33,11 +33,12 @@ struct VdbPreflight {
   // The file with only its float grids (grid count adjusted, OpenVDB's delayed-load metadata
   // dropped: it only serves memory-mapped reads): what io::Stream may read.
   std::string floatGridBytes;
-  std::size_t floatGridCount = 0;
   // For each grid in file order: -1 when it is a float grid (read by OpenVDB, in the same order),
   // else its index in `others`.
   std::vector<int> order;
   std::vector<VdbOtherGrid> others;
+
+  std::size_t floatGridCount() const { return order.size() - others.size(); }
 };
 
 // How errors name a grid: "fog volume 'density' (float)", "point data 'points'", "grid 'v'

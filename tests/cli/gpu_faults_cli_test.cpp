@@ -120,6 +120,16 @@ std::uint64_t atlasFullPages(const fs::path& metricsCsv) {
   return sum;
 }
 
+// fly on `world` into `out`, with the device pretending to hold at most `limitMiB` MiB of
+// device-local buffers when limitMiB >= 0 (SDFSTREAM_INJECT_DEVICE_MEMORY_MIB).
+test::CliResult fly(const std::string& world, const fs::path& out, const std::string& args,
+                    int limitMiB = -1) {
+  const std::string env = limitMiB < 0 ? std::string()
+                                       : "SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=" +
+                                             std::to_string(limitMiB) + " timeout 300 ";
+  return test::runCli(env + SDFSTREAM_CLI, "fly " + world + " -o " + out.string() + args);
+}
+
 // The device pretends to have less memory than the GI and the atlas need together
 // (SDFSTREAM_INJECT_DEVICE_MEMORY_MIB): fly keeps fewer atlas slots, says so, finishes, and the
 // summary reports it, instead of dying on the allocation.
@@ -131,17 +141,13 @@ TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
   // What the run needs with the whole atlas: the peak of the progress lines' live GPU buffers
   // (passes that keep device-local copies of their inputs allocate them on first use, after the
   // atlas is reserved, so the first line can be below the peak).
-  test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
-                                                         (dir / "full").string() + args);
+  const test::CliResult full = fly(world, dir / "full", args);
   ASSERT_EQ(full.exitCode, 0) << full.err;
   const std::vector<double> live = liveGpuMiB(full.err);
   ASSERT_FALSE(live.empty()) << full.err;
   const double needed = *std::max_element(live.begin(), live.end());
   // 20 MiB short: the 32 MiB atlas does not fit, a quarter of it does.
-  const std::string budget = std::to_string(int(needed) - 20);
-  test::CliResult lean = test::runCli(
-      "SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=" + budget + " timeout 300 " + SDFSTREAM_CLI,
-      "fly " + world + " -o " + (dir / "lean").string() + args);
+  const test::CliResult lean = fly(world, dir / "lean", args, int(needed) - 20);
   EXPECT_EQ(lean.exitCode, 0) << lean.err;
   EXPECT_NE(lean.err.find("note: the device's memory holds"), std::string::npos) << lean.err;
   EXPECT_EQ(lean.err.find("error"), std::string::npos) << lean.err;
@@ -159,8 +165,7 @@ TEST(CliGpuFaults, RunningOutOfDeviceMemoryMidRunShrinksTheAtlasAndFinishes) {
   // shrink some pages must count as atlas-full.
   const std::string args = " --frames 6 --width 32 --height 24 --no-pacing --objects 0 "
                            "--atlas-mib 6 --probe-budget 4096";
-  test::CliResult full = test::runCli(SDFSTREAM_CLI, "fly " + world + " -o " +
-                                                         (dir / "full").string() + args);
+  const test::CliResult full = fly(world, dir / "full", args);
   ASSERT_EQ(full.exitCode, 0) << full.err;
   ASSERT_EQ(atlasFullPages(dir / "full" / "metrics.csv"), 0u) << full.err;
   const std::vector<double> live = liveGpuMiB(full.err);
@@ -169,10 +174,7 @@ TEST(CliGpuFaults, RunningOutOfDeviceMemoryMidRunShrinksTheAtlasAndFinishes) {
   // Frame 1 fits (its atlas included); a later frame's growth does not, by less than the 3 MiB
   // that half the atlas gives back.
   ASSERT_GE(peak - live.front(), 4.0) << full.err;
-  const std::string budget = std::to_string(int(peak - 2.0));
-  test::CliResult lean = test::runCli(
-      "SDFSTREAM_INJECT_DEVICE_MEMORY_MIB=" + budget + " timeout 300 " + SDFSTREAM_CLI,
-      "fly " + world + " -o " + (dir / "lean").string() + args);
+  const test::CliResult lean = fly(world, dir / "lean", args, int(peak - 2.0));
   EXPECT_EQ(lean.exitCode, 0) << lean.err;
   EXPECT_EQ(lean.err.find("note: the device's memory holds"), std::string::npos) << lean.err;
   EXPECT_NE(lean.err.find("ran out of device memory"), std::string::npos) << lean.err;

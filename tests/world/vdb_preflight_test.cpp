@@ -100,7 +100,7 @@ TEST(VdbPreflight, EveryCodecAndHalfFloatPassAndReadBackTheSame) {
       const std::string name = "codec-" + std::to_string(compression) + (half ? "-half" : "");
       const std::string bytes = writeVdb(name + ".vdb", {source}, compression);
       const VdbPreflight checked = preflightVdb(bytes, name);
-      EXPECT_EQ(checked.floatGridCount, 1u) << name;
+      EXPECT_EQ(checked.floatGridCount(), 1u) << name;
       EXPECT_TRUE(checked.others.empty()) << name;
 
       const LevelSetFile f = readLevelSetGrids(scratch() / (name + ".vdb"));
@@ -130,7 +130,7 @@ TEST(VdbPreflight, OtherGridTypesAreCutOutAndNamed) {
   const std::string bytes =
       writeVdb("mixed.vdb", {velocity, sphere(), ids}, openvdb::io::COMPRESS_BLOSC);
   const VdbPreflight checked = preflightVdb(bytes, "mixed.vdb");
-  EXPECT_EQ(checked.floatGridCount, 1u);
+  EXPECT_EQ(checked.floatGridCount(), 1u);
   ASSERT_EQ(checked.others.size(), 2u);
   EXPECT_EQ(checked.order, (std::vector<int>{0, -1, 1}));
   EXPECT_EQ(checked.others[0].description, "grid 'velocity' (vec3s)");
@@ -152,7 +152,7 @@ TEST(VdbPreflight, InstancedGridsPassAndShareTheirTree) {
   const std::string bytes = writeVdb("instanced.vdb", {surface, copy}, openvdb::io::COMPRESS_BLOSC);
   ASSERT_NE(bytes.find("surface"), std::string::npos);
   const VdbPreflight checked = preflightVdb(bytes, "instanced.vdb");
-  EXPECT_EQ(checked.floatGridCount, 2u);
+  EXPECT_EQ(checked.floatGridCount(), 2u);
   const LevelSetFile f = readLevelSetGrids(scratch() / "instanced.vdb");
   ASSERT_EQ(f.grids.size(), 2u);
   EXPECT_EQ(f.grids[1]->activeVoxelCount(), surface->activeVoxelCount());
@@ -163,7 +163,7 @@ TEST(VdbPreflight, InstancedGridsPassAndShareTheirTree) {
 TEST(VdbPreflight, StreamWrittenFilesReadTheirFloatGridsAndRefuseOthers) {
   std::ostringstream floatOnly(std::ios::binary);
   openvdb::io::Stream(floatOnly).write({sphere()});
-  EXPECT_EQ(preflightVdb(floatOnly.str(), "stream.vdb").floatGridCount, 1u);
+  EXPECT_EQ(preflightVdb(floatOnly.str(), "stream.vdb").floatGridCount(), 1u);
 
   auto velocity = openvdb::Vec3SGrid::create();
   velocity->setName("velocity");
