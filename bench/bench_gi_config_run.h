@@ -72,6 +72,12 @@ class ConfigRun {
   // relight also pays the first upload's cold caches.
   double measureRelightMs(int repeats);
 
+  // A sun that moves every frame, with the light cache's relight budget of `pageBudget` pages per
+  // frame (fly's default on a GPU): `warmup` frames to reach the steady state, then the median
+  // light-cache time, the largest staleness and the resident pages of `frames` frames into r.
+  // The budget returns to every page afterwards.
+  void measureMovingSun(std::uint32_t pageBudget, int warmup, int frames, ConfigResult& r);
+
   // The measured frames: medians of the pass times and work, and device memory, into r. Returns
   // the last frame's irradiance at every point.
   std::vector<glm::vec3> measure(ConfigResult& r);

@@ -27,8 +27,11 @@ struct ConfigResult {
   double frameMs = 0.0;                          // updateMs + sampleMs: the x axis of the plots
   double frameBestMs = 0.0, frameWorstMs = 0.0;  // fastest / slowest measured frame
   double sampleNsPerQuery = 0.0;
-  double lightRelightMs = 0.0;  // light cache relighting every resident page (light change)
+  double lightRelightMs = 0.0;      // light cache relighting every resident page (light change)
   double lightRelightWarmMs = 0.0;  // --gpu-table: median of forced relights after the measure
+  // --gpu-table: a sun moving every frame with a relight budget (ConfigRun::measureMovingSun).
+  std::uint32_t movingSunBudget = 0, movingSunResidentPages = 0, movingSunStalenessFrames = 0;
+  double movingSunLightMs = 0.0;         // median light-cache ms per frame at steady state
   std::map<std::string, double> passMs;  // per probe pass
   // Work per frame (medians).
   double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;

@@ -327,7 +327,7 @@ int runStress(const StressOptions& o) {
   PackTileStore store(o.world);  // InputError naming the manifest when it is missing or malformed
   std::unique_ptr<gpu::Context> context = gpu::Context::create(o.device);
   GiSettings settings = o.settings;
-  resolveProbeBudget(settings, context.get());
+  resolveDeviceBudgets(settings, context.get());
 
   StreamingOptions so;
   so.cascades = o.cascades;

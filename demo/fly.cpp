@@ -16,12 +16,12 @@
 #include "core/stopwatch.h"
 #include "demo/fly_path.h"
 #include "demo/fly_report.h"
-#include "demo/pack_lights.h"
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
 #include "demo/moving_objects.h"
-#include "gpu/context.h"
+#include "demo/pack_lights.h"
 #include "gi/camera.h"
+#include "gpu/context.h"
 #include "streaming/cascade_stack.h"
 #include "streaming/pack_store.h"
 #include "streaming/stream_metrics.h"
@@ -63,9 +63,10 @@ struct MemorySample {
 void checkAtlasBudget(double atlasMiB, std::size_t slotBytes, const gpu::Context* context) {
   const double bytes = atlasMiB * double(1 << 20);
   if (!(atlasMiB > 0.0) || bytes / double(slotBytes) > double(UINT32_MAX))
-    throw InputError(InputErrorKind::Usage, "command line",
-                     "--atlas-mib " + std::to_string(atlasMiB) + ": expected 0 < MiB <= " +
-                         std::to_string(std::uint64_t(double(UINT32_MAX) * double(slotBytes)) >> 20));
+    throw InputError(
+        InputErrorKind::Usage, "command line",
+        "--atlas-mib " + std::to_string(atlasMiB) + ": expected 0 < MiB <= " +
+            std::to_string(std::uint64_t(double(UINT32_MAX) * double(slotBytes)) >> 20));
   if (context && bytes > double(context->deviceLocalBytes())) {
     char text[256];
     std::snprintf(text, sizeof text,
@@ -97,7 +98,7 @@ RenderOptions renderOptionsFor(const FlyOptions& o, const PackManifest& manifest
                                const gpu::Context* context) {
   RenderOptions render = o.render;
   useOwnLights(render, manifest.lights, o.world.string());  // the manifest the store already read
-  resolveProbeBudget(render.renderer.settings, context);
+  resolveDeviceBudgets(render.renderer.settings, context);
   return render;
 }
 
@@ -173,9 +174,11 @@ class FlyThrough {
     const MetricsSummary summary = summarize(metrics_);
     writeGiCsv(o_.out / "gi.csv", giMetrics_);
     const bool gi = renderer_ && renderer_->giEnabled();
-    const std::string giMd = giSummaryMarkdown(giMetrics_, gi, render_.renderer.settings.probes,
-                                               renderer_ ? renderer_->probeDeviceBytes() : 0) +
-                             objectSummaryMarkdown(giMetrics_, gi);
+    const std::string giMd =
+        giSummaryMarkdown(giMetrics_, gi, render_.renderer.settings.probes,
+                          renderer_ ? renderer_->probeDeviceBytes() : 0) +
+        relightSummaryMarkdown(giMetrics_, gi, render_.renderer.settings.light.relightPageBudget) +
+        objectSummaryMarkdown(giMetrics_, gi);
     std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() + "\n\n" +
                      summaryMarkdown(summary) + giMd + memoryMarkdown();
     const auto failed = loader_.failedTiles();
@@ -279,8 +282,8 @@ class FlyThrough {
     withinDeviceMemory(f, [&] {
       g.gi = giUpdate(cam);
       if (renderer_) g.probePasses = renderer_->lastTimes().probePasses;
-      m.gpuBytes = stack_.atlasBytes() +
-                   std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
+      m.gpuBytes =
+          stack_.atlasBytes() + std::size_t(stack_.cascadeCount()) * layout::kCascadePageCount * 4;
       if (f % o_.imageEvery == 0 || f == o_.frames - 1) render(f, cam, m, g);
     });
     m.loader = loader_.takeStats();
@@ -324,7 +327,8 @@ class FlyThrough {
   std::string memoryMarkdown() const {
     if (memory_.empty()) return "";
     const std::size_t settled = memory_.size() / 10;
-    MemorySample start = memory_[std::min(settled, memory_.size() - 1)], peak{}, end = memory_.back();
+    MemorySample start = memory_[std::min(settled, memory_.size() - 1)], peak{},
+                 end = memory_.back();
     for (const MemorySample& m : memory_) {
       peak.rss = std::max(peak.rss, m.rss);
       peak.gpuBuffers = std::max(peak.gpuBuffers, m.gpuBuffers);
@@ -410,7 +414,8 @@ class FlyThrough {
                        " atlas slots asked for (fewer resident bricks)";
     if (atlasShrinks_ > 0)
       note += "; the atlas shrank " + std::to_string(atlasShrinks_) +
-              (atlasShrinks_ == 1 ? " time" : " times") + " mid-run when the device ran out of memory";
+              (atlasShrinks_ == 1 ? " time" : " times") +
+              " mid-run when the device ran out of memory";
     return note + ".";
   }
   std::vector<GiFrameMetrics> giMetrics_;

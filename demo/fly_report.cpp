@@ -48,7 +48,7 @@ void writeGiCsv(const fs::path& file, const std::vector<GiFrameMetrics>& frames)
   std::string csv =
       "frame,light_ms,probe_ms,pages_relit,probes_updated,rays_traced,rays_cached,shade_ms,"
       "sample_ms,object_instances,object_region_ms,object_pages_relit,object_rays,object_hits,"
-      "object_steps,object_pixels";
+      "object_steps,object_pixels,relight_pending,relight_unlit,relight_staleness";
   // The probe update's passes one by one, named as ProbeField::lastTimings names them (the union
   // over all frames, in order of first appearance, so the columns stay fixed within a file).
   std::vector<std::string> passes;
@@ -59,12 +59,14 @@ void writeGiCsv(const fs::path& file, const std::vector<GiFrameMetrics>& frames)
   csv += "\n";
   char row[256];
   for (const auto& f : frames) {
-    std::snprintf(row, sizeof row, "%d,%.3f,%.3f,%u,%u,%u,%u,%.3f,%.3f,%u,%.3f,%u,%u,%u,%u,%zu",
-                  f.frame, f.gi.lightMilliseconds, f.gi.probeMilliseconds, f.gi.pagesRelit,
+    std::snprintf(row, sizeof row,
+                  "%d,%.3f,%.3f,%u,%u,%u,%u,%.3f,%.3f,%u,%.3f,%u,%u,%u,%u,%zu,%u,%u,%u", f.frame,
+                  f.gi.lightMilliseconds, f.gi.probeMilliseconds, f.gi.pagesRelit,
                   f.gi.probes.probesUpdated, f.gi.probes.raysTraced, f.gi.probes.raysCached,
                   f.shadeMilliseconds, f.sampleMilliseconds, f.gi.objectInstances,
                   f.gi.objectMilliseconds, f.gi.objectPagesRelit, f.gi.probes.objectRays,
-                  f.gi.probes.objectHits, f.gi.probes.objectSteps, f.objectPixels);
+                  f.gi.probes.objectHits, f.gi.probes.objectSteps, f.objectPixels,
+                  f.gi.relight.pending, f.gi.relight.unlitPending, f.gi.relight.maxStalenessFrames);
     csv += row;
     for (const std::string& p : passes) {
       double ms = 0.0;
@@ -116,6 +118,32 @@ std::string giSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi
       percentile(shade, 0.5), percentile(shade, 0.99), percentile(shade, 1.0), mean(sample),
       percentile(sample, 0.5), percentile(sample, 0.99), percentile(sample, 1.0), mean(updated),
       mean(traced));
+  return text;
+}
+
+std::string relightSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi,
+                                   std::uint32_t relightPageBudget) {
+  if (!gi || frames.empty()) return {};
+  std::vector<double> relit, pending, unlit, stale;
+  for (const auto& f : frames) {
+    relit.push_back(f.gi.pagesRelit);
+    pending.push_back(f.gi.relight.pending);
+    unlit.push_back(f.gi.relight.unlitPending);
+    stale.push_back(f.gi.relight.maxStalenessFrames);
+  }
+  const std::string budget = relightPageBudget == kRelightEveryPage
+                                 ? std::string("every out-of-date page each frame")
+                                 : std::to_string(relightPageBudget) + " pages per frame";
+  char text[1024];
+  std::snprintf(text, sizeof text,
+                "\n## Light cache relight\n\nBudget: %s (--relight-pages; new bricks first, then "
+                "the longest out of date). Pages relit per frame: mean %.0f, max %.0f. Left out "
+                "of date after the frame: mean %.0f, max %.0f (never lit: max %.0f). Staleness "
+                "(frames the longest-waiting page has shown old light): p50 %.0f, p99 %.0f, max "
+                "%.0f.\n",
+                budget.c_str(), mean(relit), percentile(relit, 1.0), mean(pending),
+                percentile(pending, 1.0), percentile(unlit, 1.0), percentile(stale, 0.5),
+                percentile(stale, 0.99), percentile(stale, 1.0));
   return text;
 }
 

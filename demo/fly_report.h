@@ -31,6 +31,11 @@ void writeGiCsv(const std::filesystem::path& file, const std::vector<GiFrameMetr
 std::string giSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi,
                               const probe::ProbeFieldSettings& probes, std::size_t probeBytes);
 
+// The light cache's relight queue (LightRelightQueue): pages relit per frame against the budget,
+// pages left out of date and their staleness in frames (empty with GI off).
+std::string relightSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi,
+                                   std::uint32_t relightPageBudget);
+
 // The moving objects' share of the frame (empty without objects).
 std::string objectSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, bool gi);
 

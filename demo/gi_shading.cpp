@@ -284,7 +284,10 @@ SceneLights defaultSceneLights(glm::vec3 sunTravelDirection, float sunIrradiance
 
 GiRenderer::GiRenderer(gpu::Context& context, const GiRendererOptions& options,
                        std::uint32_t cascades)
-    : context_(context), options_(options), shade_(context) {
+    : context_(context),
+      options_(options),
+      relight_(options.settings.light.relightPageBudget),
+      shade_(context) {
   if (options.gi) {
     gi_ = std::make_unique<GiSystem>(context, options.settings, cascades);
   } else {
@@ -348,13 +351,9 @@ GiFrameStats GiRenderer::updateDirectOnly(const CascadeStackImage& image,
   if (light_) {
     const bool lightsChanged = lights.version != lightsVersion_;
     lightsVersion_ = lights.version;
-    std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
-    if (!shadowed.empty()) {
-      std::vector<std::uint32_t> merged;
-      std::set_union(dirty.begin(), dirty.end(), shadowed.begin(), shadowed.end(),
-                     std::back_inserter(merged));
-      dirty = std::move(merged);
-    }
+    const std::vector<std::uint32_t> dirty = relight_.select(
+        image, lightDirtyPages(previous_.get(), image, false), shadowed, lightsChanged);
+    stats.relight = relight_.stats();
     light_->update(*scene_, gpuLights, toGpu(lights.sky), dirty, image.voxelSize0,
                    instances_ ? objects_.get() : nullptr);
     stats.pagesRelit = light_->pagesRelitLastUpdate();

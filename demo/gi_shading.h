@@ -211,6 +211,7 @@ class GiRenderer {
   std::unique_ptr<GpuStackScene> scene_;         // GI off
   std::unique_ptr<LightCache> light_;            // GI off with kShadeDirectCache
   std::unique_ptr<CascadeStackImage> previous_;  // GI off: for the light cache's dirty pages
+  LightRelightQueue relight_;                    // GI off: which of them to relight now
   std::unique_ptr<ObjectScene> objects_;         // GI off with objects
   const ObjectLibrary* objectLibrary_ = nullptr;
   InstanceSet* instances_ = nullptr;

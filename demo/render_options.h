@@ -22,16 +22,26 @@ struct RenderOptions {
 };
 
 // settings.probes.rayBudget == kProbeBudgetOfDevice: the streamed commands (fly, stress) choose
-// the budget by device, see resolveProbeBudget.
+// the budget by device, see resolveDeviceBudgets.
 constexpr std::uint32_t kProbeBudgetOfDevice = 0;
+// settings.light.relightPageBudget == kRelightBudgetOfDevice: the same for the light cache.
+constexpr std::uint32_t kRelightBudgetOfDevice = 0;
 
-// Replaces kProbeBudgetOfDevice by the budget for `context`: on a CPU Vulkan device (lavapipe) a
-// full probe update of six cascades takes ~16 s a frame, so 65536 rays keep a fly-through to
-// about a second a frame there (updates rotate through the probes, nearest and in view first);
-// 2^21 on a real GPU. context == nullptr counts as a GPU (the CPU reference has no probes).
-inline void resolveProbeBudget(GiSettings& settings, const gpu::Context* context) {
-  if (settings.probes.rayBudget != kProbeBudgetOfDevice) return;
-  settings.probes.rayBudget = context && context->isSoftware() ? 1u << 16 : 1u << 21;
+// Replaces the *OfDevice budgets by those for `context` (nullptr counts as a GPU: the CPU
+// reference has no probes and no light cache):
+//  - probe rays: on a CPU Vulkan device (lavapipe) a full probe update of six cascades takes
+//    ~16 s a frame, so 65536 rays keep a fly-through to about a second a frame there (updates
+//    rotate through the probes, nearest and in view first); 2^21 on a real GPU;
+//  - light-cache pages relit per frame: a sun that moves every frame relights every resident page
+//    (4,000-8,000 in a fly-through) each frame without a budget, 2.6 s a frame on lavapipe; 64
+//    pages there, 1024 on a GPU (LightRelightQueue: the longest out of date first). stress keeps
+//    relighting every page, so its light-cache cost is the whole cost.
+inline void resolveDeviceBudgets(GiSettings& settings, const gpu::Context* context) {
+  const bool software = context && context->isSoftware();
+  if (settings.probes.rayBudget == kProbeBudgetOfDevice)
+    settings.probes.rayBudget = software ? 1u << 16 : 1u << 21;
+  if (settings.light.relightPageBudget == kRelightBudgetOfDevice)
+    settings.light.relightPageBudget = software ? 64u : 1024u;
 }
 
 }  // namespace sdfstream

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iterator>
 #include <string_view>
 #include <utility>
 
@@ -34,7 +33,8 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       light_(context, settings.light),
       probes_(context, settings.probes, cascades),
       objects_(context, settings.objects),
-      staging_(context, std::max(1u, settings.framesInFlight)) {}
+      staging_(context, std::max(1u, settings.framesInFlight)),
+      relight_(settings.light.relightPageBudget) {}
 
 // Frames still in flight keep their batches (query pools) alive until the GPU is done with them:
 // CommandBatch's destruction is deferred like every other GPU object's.
@@ -132,10 +132,11 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
       lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();
-  std::vector<std::uint32_t> dirty = lightDirtyPages(previous_.get(), image, lightsChanged);
+  const std::vector<std::uint32_t> changed = lightDirtyPages(previous_.get(), image, false);
   const auto gpuLights = toGpu(lights.lights, image);
   const gpu_shared::GpuSky sky = toGpu(lights.sky);
   stats.host.lightMs = millisecondsSince(t);
+  std::vector<std::uint32_t> shadowed;
   if (instances_) {
     t = Clock::now();
     objects_.record(batch, staging_, *objectLibrary_, *instances_, image, lightsChanged);
@@ -143,18 +144,15 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
     stats.host.objectsMs = millisecondsSince(t);
     stats.host.objectsBuildMs = objects_.lastBuildMilliseconds();
     t = Clock::now();
-    // Relight only where objects moved: the pages their old and new poses shadow.
-    const std::vector<std::uint32_t> shadowed =
-        objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);
+    // Only where objects moved: the pages their old and new poses shadow.
+    shadowed = objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);
     stats.objectPagesRelit = std::uint32_t(shadowed.size());
-    std::vector<std::uint32_t> merged;
-    std::set_union(dirty.begin(), dirty.end(), shadowed.begin(), shadowed.end(),
-                   std::back_inserter(merged));
-    dirty = std::move(merged);
     instances_->endFrame();
     stats.host.shadowPagesMs = millisecondsSince(t);
   }
   t = Clock::now();
+  const std::vector<std::uint32_t> dirty = relight_.select(image, changed, shadowed, lightsChanged);
+  stats.relight = relight_.stats();
   light_.record(batch, staging_, scene_, gpuLights, sky, dirty, image.voxelSize0,
                 instances_ ? &objects_ : nullptr);
   stats.host.lightMs += millisecondsSince(t);

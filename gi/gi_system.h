@@ -47,7 +47,8 @@ struct GiFrameStats {
   double probeMilliseconds = 0.0;   // GPU time of all probe passes
   double objectMilliseconds = 0.0;  // GPU time of the macro-region passes (0 without objects)
   std::uint32_t objectInstances = 0;
-  std::uint32_t objectPagesRelit = 0;  // light-cache pages relit because objects moved
+  std::uint32_t objectPagesRelit = 0;  // light-cache pages objects' moves put out of date
+  LightRelightStats relight;           // the light cache's queue after this frame's relight
   std::size_t bytesUploaded = 0;       // staging bytes of the frame (bricks, tables, instances)
   GiHostTimes host;
   probe::ProbeFieldStats probes;
@@ -121,6 +122,8 @@ class GiSystem {
   // frames of update() are blocking).
   std::uint32_t shrinkAtlasSlots(std::uint32_t slots) { return scene_.shrinkAtlas(slots); }
   const LightCache& lightCache() const { return light_; }
+  // Light-cache pages relit per frame from the next frame on (LightCacheSettings).
+  void setRelightPageBudget(std::uint32_t pages) { relight_.setPageBudget(pages); }
   const probe::ProbeField& probes() const { return probes_; }
   probe::ProbeField& probes() { return probes_; }
   const CascadeStackImage* lastImage() const { return previous_.get(); }
@@ -156,6 +159,7 @@ class GiSystem {
   const ObjectLibrary* objectLibrary_ = nullptr;
   InstanceSet* instances_ = nullptr;
   std::unique_ptr<CascadeStackImage> previous_;
+  LightRelightQueue relight_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   std::size_t lightCount_ = 0;
   std::deque<FrameInFlight> inFlight_;

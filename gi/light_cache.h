@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gi/gpu_stack_scene.h"
+#include "gi/light_relight_queue.h"
 #include "gi/object_scene.h"
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
@@ -36,6 +37,9 @@ struct LightCacheSettings {
   // (out of steps counts as blocked); 256 lit all but 6% of them (bench gi --diagnose).
   std::uint32_t maxShadowSteps = 256;
   float hitEpsilon = 0.02f;  // voxels: a sample below this blocks the light
+  // Pages relit per frame at most (LightRelightQueue: never-lit bricks first, then the longest
+  // out of date); kRelightEveryPage relights every out-of-date page each frame.
+  std::uint32_t relightPageBudget = kRelightEveryPage;
 };
 
 // Global page indices (cascade * 4096 + toroidal entry) whose cells need relighting, sorted:

@@ -34,7 +34,8 @@ int runFly(int argc, char** argv) {
         "  --loop             fly back and forth along the path (long runs; default: stop at\n"
         "                     its end)\n"
         "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees per frame (a\n"
-        "                     moving sun: the light cache relights every frame)\n"
+        "                     moving sun: every frame is a light change; the light cache\n"
+        "                     relights within --relight-pages, the longest out of date first)\n"
         "  --metrics-every K  keep the per-frame metrics of every K-th frame (default 1; long\n"
         "                     runs keep memory flat with 1000)\n"
         "  --frames N         frames at 30 per second of path time (default 300)\n"
@@ -81,7 +82,7 @@ int runFly(int argc, char** argv) {
   o.uploadMiB = args.number("--upload-mib", o.uploadMiB);
   o.loaderThreads = args.integer("--loader-threads", o.loaderThreads, 1, 64);
   const bool cpu = args.has("--cpu");
-  o.render = renderOptionsFromArgs(args, cpu, 0, kProbeBudgetOfDevice);
+  o.render = renderOptionsFromArgs(args, cpu, 0, kProbeBudgetOfDevice, kRelightBudgetOfDevice);
   o.warmupGiFrames = o.render.giFrames;  // 0 unless --gi-frames is given
   o.objects = std::uint32_t(args.integer("--objects", cpu ? 0 : 150, 0, 100000));
   if (cpu && o.objects > 0)

@@ -41,8 +41,8 @@ constexpr glm::vec3 kSkyHorizon(0.2f, 0.22f, 0.26f);
 }  // namespace
 
 std::set<std::string> renderValueOptions(std::set<std::string> own) {
-  own.insert({"--gi", "--gi-frames", "--probe-rays", "--probe-budget", "--sun", "--sky",
-              "--exposure", "--direct", "--cards"});
+  own.insert({"--gi", "--gi-frames", "--probe-rays", "--probe-budget", "--relight-pages", "--sun",
+              "--sky", "--exposure", "--direct", "--cards"});
   return own;
 }
 
@@ -57,6 +57,9 @@ const char* const kRenderHelp =
     "  --probe-budget N                  probe rays per GI frame, all cascades (default 2097152;\n"
     "                                    fly on a CPU Vulkan device: 65536); probes beyond it\n"
     "                                    wait for later frames, nearest and in view first\n"
+    "  --relight-pages N|all             light-cache pages relit per frame at most: new bricks\n"
+    "                                    first, then the longest out of date (default all;\n"
+    "                                    fly: 1024, on a CPU Vulkan device 64)\n"
     "  --sun dx,dy,dz,E                  sun: direction its light travels (world, e.g. 0,-1,0 =\n"
     "                                    straight down) and irradiance E (0 = no sun; default\n"
     "                                    0.45,-0.7,-0.55,3); a world imported with lights of\n"
@@ -73,7 +76,8 @@ const char* const kRenderHelp =
     "                                    object bounces only its emission and probe light\n";
 
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
-                                    std::uint32_t defaultProbeBudget) {
+                                    std::uint32_t defaultProbeBudget,
+                                    std::uint32_t defaultRelightBudget) {
   RenderOptions o;
   const std::string gi = args.value("--gi").value_or(cpu ? "off" : "on");
   if (gi != "on" && gi != "off") throw usage("--gi expects on or off, got '" + gi + "'");
@@ -86,6 +90,10 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
       std::uint32_t(args.integer("--probe-rays", int(gpu_shared::kProbeDefaultRays), 1, 1024));
   o.renderer.settings.probes.rayBudget =
       std::uint32_t(args.integer("--probe-budget", int(defaultProbeBudget), 1, 1 << 30));
+  o.renderer.settings.light.relightPageBudget = defaultRelightBudget;
+  if (auto pages = args.value("--relight-pages"); pages && *pages != "all")
+    o.renderer.settings.light.relightPageBudget =
+        std::uint32_t(args.integer("--relight-pages", 0, 1, 1 << 20));
   const std::string direct = args.value("--direct").value_or("pixel");
   if (direct != "pixel" && direct != "cache")
     throw usage("--direct expects pixel or cache, got '" + direct + "'");

@@ -1,6 +1,6 @@
 // The command-line flags every rendering command shares (--gi, --gi-frames, --probe-rays,
-// --probe-budget, --sun, --sky, --exposure, --direct), their help text and their parsing into
-// RenderOptions (demo/render_options.h).
+// --probe-budget, --relight-pages, --sun, --sky, --exposure, --direct), their help text and their
+// parsing into RenderOptions (demo/render_options.h).
 #pragma once
 
 #include <cstdint>
@@ -20,9 +20,10 @@ extern const char* const kRenderHelp;
 extern const char* const kStillGiFramesHelp;
 // Parses the shared flags. cpu: the command runs without Vulkan, so GI is off (an explicit
 // `--gi on` is a usage error). defaultGiFrames / defaultProbeBudget: the command's defaults for
-// --gi-frames and --probe-budget (kProbeBudgetOfDevice: chosen by device once it is open).
+// --gi-frames, --probe-budget and --relight-pages (kProbeBudgetOfDevice, kRelightBudgetOfDevice:
+// chosen by device once it is open).
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
-                                    std::uint32_t defaultProbeBudget = 1u << 21);
-
+                                    std::uint32_t defaultProbeBudget = 1u << 21,
+                                    std::uint32_t defaultRelightBudget = kRelightEveryPage);
 
 }  // namespace sdfstream::cli

@@ -1,0 +1,126 @@
+// LightRelightQueue: which light-cache pages are relit each frame within a page budget. Pure host
+// logic over hand-built page tables: never-lit bricks first, then the longest out of date, the
+// staleness bound ceil(resident / budget) under lights that change every frame, and the counts
+// it reports.
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "gi/light_cache.h"
+#include "gi/light_relight_queue.h"
+#include "shaders/shared/sdf_layout.h"
+
+namespace sdfstream {
+namespace {
+using gpu_shared::kCascadePageCount;
+using gpu_shared::kPageResidentBit;
+
+// One cascade whose first `resident` pages hold bricks (slot = page index).
+CascadeStackImage stackWithResidentPages(std::uint32_t resident) {
+  CascadeStackImage image;
+  image.pageTables.assign(kCascadePageCount, 0u);
+  for (std::uint32_t p = 0; p < resident; ++p) image.pageTables[p] = kPageResidentBit | p;
+  image.params.resize(1);
+  image.voxelSize0 = 0.1;
+  return image;
+}
+
+std::vector<std::uint32_t> allPages(std::uint32_t n) {
+  std::vector<std::uint32_t> v(n);
+  std::iota(v.begin(), v.end(), 0u);
+  return v;
+}
+
+TEST(LightRelightQueue, WithoutABudgetEveryOutOfDatePageIsRelitAtOnce) {
+  const CascadeStackImage image = stackWithResidentPages(300);
+  LightRelightQueue queue;
+  EXPECT_EQ(queue.select(image, allPages(300), {}, true), allPages(300));
+  EXPECT_EQ(queue.stats().pending, 0u);
+  EXPECT_TRUE(queue.select(image, {}, {}, false).empty()) << "nothing changed";
+  const std::vector<std::uint32_t> shadowed{5, 17, 250};
+  EXPECT_EQ(queue.select(image, {}, shadowed, false), shadowed);
+  EXPECT_EQ(queue.select(image, {}, {}, true), allPages(300)) << "the lights changed";
+  EXPECT_EQ(queue.stats().maxStalenessFrames, 0u);
+}
+
+TEST(LightRelightQueue, AMovingSunRelightsEveryPageWithinResidentOverBudgetFrames) {
+  constexpr std::uint32_t kResident = 1000, kBudget = 64;
+  constexpr std::uint32_t kBound = (kResident + kBudget - 1) / kBudget;  // 16 frames
+  const CascadeStackImage image = stackWithResidentPages(kResident);
+  LightRelightQueue queue(kBudget);
+  std::vector<int> lastLit(kResident, -1);
+  std::uint32_t worstGap = 0, worstReported = 0;
+  for (int frame = 0; frame < 200; ++frame) {
+    const auto changed = frame == 0 ? allPages(kResident) : std::vector<std::uint32_t>{};
+    const std::vector<std::uint32_t> relit = queue.select(image, changed, {}, true);
+    ASSERT_EQ(relit.size(), kBudget) << "frame " << frame;
+    ASSERT_TRUE(std::is_sorted(relit.begin(), relit.end()));
+    ASSERT_EQ(std::adjacent_find(relit.begin(), relit.end()), relit.end()) << "distinct";
+    for (std::uint32_t p : relit) {
+      if (lastLit[p] >= 0) worstGap = std::max(worstGap, std::uint32_t(frame - lastLit[p]));
+      lastLit[p] = frame;
+    }
+    EXPECT_EQ(queue.stats().selected, kBudget);
+    EXPECT_EQ(queue.stats().pending, kResident - kBudget);
+    if (frame >= int(kBound)) {
+      EXPECT_EQ(queue.stats().unlitPending, 0u) << "every brick lit once by frame " << kBound;
+      worstReported = std::max(worstReported, queue.stats().maxStalenessFrames);
+    }
+  }
+  EXPECT_TRUE(std::none_of(lastLit.begin(), lastLit.end(), [](int f) { return f < 0; }));
+  // First in, first out: every page comes round again after the same number of frames.
+  EXPECT_EQ(worstGap, kBound);
+  EXPECT_LE(worstReported, kBound);
+  EXPECT_GE(worstReported, kBound - 1);
+}
+
+TEST(LightRelightQueue, NeverLitBricksGoBeforeTheLongestOutOfDate) {
+  const CascadeStackImage image = stackWithResidentPages(100);
+  LightRelightQueue queue(10);
+  // Frame 0: only pages 0..49 are new; 50..99 arrive later.
+  std::vector<std::uint32_t> first = allPages(50);
+  CascadeStackImage half = stackWithResidentPages(50);
+  for (int f = 0; f < 5; ++f)
+    queue.select(half, f == 0 ? first : std::vector<std::uint32_t>{}, {}, false);
+  EXPECT_EQ(queue.stats().pending, 0u);
+  // The lights change once (all 50 out of date) and pages 50..99 stream in the next frame.
+  queue.select(half, {}, {}, true);
+  std::vector<std::uint32_t> arriving(50);
+  std::iota(arriving.begin(), arriving.end(), 50u);
+  const std::vector<std::uint32_t> relit = queue.select(image, arriving, {}, false);
+  for (std::uint32_t p : relit) EXPECT_GE(p, 50u) << "an unlit brick waits behind a lit one";
+  EXPECT_EQ(queue.stats().unlitPending, 40u);
+  EXPECT_EQ(queue.stats().pending, 40u + 40u);  // 40 unlit, 40 out of date since the change
+  EXPECT_EQ(queue.stats().maxStalenessFrames, 2u);
+}
+
+TEST(LightRelightQueue, AShadowedPageKeepsItsPlaceAndAnEvictedPageIsForgotten) {
+  const CascadeStackImage image = stackWithResidentPages(40);
+  LightRelightQueue queue(4);
+  for (int f = 0; f < 10; ++f)
+    queue.select(image, f == 0 ? allPages(40) : std::vector<std::uint32_t>{}, {}, false);
+  ASSERT_EQ(queue.stats().pending, 0u);
+  // Page 30 goes out of date, then every page through a light change; 30 is the oldest.
+  queue.select(image, {}, std::vector<std::uint32_t>{30}, false);  // relit at once (budget)
+  const std::vector<std::uint32_t> shadowed{30};
+  queue.select(image, {}, {}, true);  // 0..3 relit, 4..39 wait
+  const auto next = queue.select(image, {}, shadowed, false);
+  EXPECT_EQ(next, (std::vector<std::uint32_t>{4, 5, 6, 7}))
+      << "a page shadowed again does not jump the queue";
+  // Pages 8..39 leave the stack: they are no longer pending and come back as new bricks.
+  const CascadeStackImage shrunk = stackWithResidentPages(8);
+  EXPECT_TRUE(queue.select(shrunk, {}, {}, false).empty());
+  EXPECT_EQ(queue.stats().pending, 0u);
+  EXPECT_EQ(queue.stats().maxStalenessFrames, 0u);
+}
+
+TEST(LightRelightQueue, ABudgetOfNoPagesIsRefused) {
+  EXPECT_THROW(LightRelightQueue(0), std::invalid_argument);
+  EXPECT_EQ(LightCacheSettings{}.relightPageBudget, kRelightEveryPage);
+}
+
+}  // namespace
+}  // namespace sdfstream
