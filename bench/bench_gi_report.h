@@ -29,9 +29,13 @@ struct ConfigResult {
   double sampleNsPerQuery = 0.0;
   double lightRelightMs = 0.0;      // light cache relighting every resident page (light change)
   double lightRelightWarmMs = 0.0;  // --gpu-table: median of forced relights after the measure
-  // --gpu-table: a sun moving every frame with a relight budget (ConfigRun::measureMovingSun).
-  std::uint32_t movingSunBudget = 0, movingSunResidentPages = 0, movingSunStalenessFrames = 0;
-  double movingSunLightMs = 0.0;         // median light-cache ms per frame at steady state
+  // --gpu-table: a sun moving every frame, one row per relight budget
+  // (ConfigRun::measureMovingSun).
+  struct MovingSun {
+    std::uint32_t budget = 0, residentPages = 0, stalenessFrames = 0;
+    double lightMs = 0.0;  // median light-cache ms per frame at steady state
+  };
+  std::vector<MovingSun> movingSun;
   std::map<std::string, double> passMs;  // per probe pass
   // Work per frame (medians).
   double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;

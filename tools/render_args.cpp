@@ -59,7 +59,7 @@ const char* const kRenderHelp =
     "                                    wait for later frames, nearest and in view first\n"
     "  --relight-pages N|all             light-cache pages relit per frame at most: new bricks\n"
     "                                    first, then the longest out of date (default all;\n"
-    "                                    fly: 1024, on a CPU Vulkan device 64)\n"
+    "                                    fly: 256, on a CPU Vulkan device 64)\n"
     "  --sun dx,dy,dz,E                  sun: direction its light travels (world, e.g. 0,-1,0 =\n"
     "                                    straight down) and irradiance E (0 = no sun; default\n"
     "                                    0.45,-0.7,-0.55,3); a world imported with lights of\n"
