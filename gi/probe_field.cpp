@@ -36,6 +36,7 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       sizes_(probeFieldSizes(settings, cascades)),
       builder_(settings),
       classify_(pipeline(context, gpu::ShaderId::probe_classify)),
+      cacheCheck_(pipeline(context, gpu::ShaderId::probe_cache_check)),
       select_(pipeline(context, gpu::ShaderId::probe_select)),
       trace_(pipeline(context, gpu::ShaderId::probe_trace)),
       blend_(pipeline(context, gpu::ShaderId::probe_blend)),
@@ -144,6 +145,11 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     return pc;
   };
   const ProbePushConstants classify = push(0, probes);
+  const std::uint32_t cacheEntries = std::uint32_t(sizes_.cacheEntries);
+  const ProbePushConstants cacheCheck = push(0, cacheEntries);
+  const std::uint32_t options = lastFrame_.constants.options.x;
+  const bool checkCache = (options & gpu_shared::kProbeOptionHitCache) != 0u &&
+                          (options & gpu_shared::kProbeOptionCacheCheck) != 0u;
   const ProbePushConstants count = push(gpu_shared::kProbeSelectModeCount, probes);
   const ProbePushConstants emit = push(gpu_shared::kProbeSelectModeEmit, probes);
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
@@ -153,6 +159,10 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
 
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
+  // Only frames whose windows scrolled or whose pages changed can invalidate cached rays.
+  if (checkCache)
+    batch.dispatch("probe_cache_check", cacheCheck_, b, &cacheCheck, sizeof cacheCheck,
+                   spread(cacheEntries));
   batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));
   batch.dispatch("probe_select_emit", select_, b, &emit, sizeof emit, spread(probes));
   batch.dispatch("probe_select_args", select_, b, &args, sizeof args, {1, 1, 1});

@@ -64,7 +64,8 @@ class ProbeField {
   }
   const ProbeFieldSettings& settings() const { return settings_; }
   const ProbeFieldStats& lastStats() const { return stats_; }
-  // GPU time per pass of the last update() or sample(): probe_classify, probe_select_count,
+  // GPU time per pass of the last update() or sample(): probe_classify, probe_cache_check (frames
+  // whose windows scrolled or pages changed), probe_select_count,
   // probe_select_emit, probe_select_args, probe_trace, probe_blend, probe_border / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
@@ -94,7 +95,7 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  gpu::ComputePipeline classify_, select_, trace_, blend_, border_, sample_;
+  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, blend_, border_, sample_;
   // frame_, volumes_, rotations_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,

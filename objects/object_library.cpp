@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/atomic_dir.h"
+#include "core/read_file.h"
 #include "objects/object_cache.h"
 #include "objects/primitive_meshes.h"
 #include "world/gltf_import.h"
@@ -18,16 +19,6 @@ std::string shortFloat(float v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", double(v));
   return buf;
-}
-
-// Whole file, or nullopt when it does not exist or cannot be read (a miss, not an error).
-std::optional<std::vector<std::uint8_t>> readFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                  std::istreambuf_iterator<char>());
-  if (in.bad()) return std::nullopt;
-  return bytes;
 }
 
 }  // namespace
@@ -52,7 +43,7 @@ ObjectSdf ObjectLibrary::loadOrBuild(const TriangleScene& mesh) {
   }
   const std::uint64_t key = objectCacheKey(mesh, settings_);
   const std::filesystem::path path = cacheDir_ / objectCacheFileName(key);
-  if (auto bytes = readFile(path)) {
+  if (auto bytes = tryReadWholeFile<std::vector<std::uint8_t>>(path)) {
     std::string problem;
     if (auto sdf = parseObjectSdf(*bytes, key, &problem)) {
       ++stats_.loaded;

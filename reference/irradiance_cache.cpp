@@ -7,6 +7,7 @@
 
 #include "core/atomic_dir.h"
 #include "core/hash.h"
+#include "core/read_file.h"
 
 namespace sdfstream::reference {
 namespace {
@@ -97,9 +98,7 @@ void hashLights(KeyBuilder& k, const SceneLights& l) {
 }
 
 std::vector<char> readAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
-  return std::vector<char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return tryReadWholeFile<std::vector<char>>(path).value_or(std::vector<char>{});
 }
 
 template <class T>

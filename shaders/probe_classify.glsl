@@ -177,7 +177,7 @@ bool probeCacheStillValid(ProbeFrame f, uint c, vec3 o, vec3 dir, uvec2 e) {
   return !PROBE_PAGE_CHANGED(h, page);
 }
 
-// ---- Pass body (one call per GPU invocation; the CPU reference loops over the same) ----------
+// ---- Pass bodies (one call per GPU invocation; the CPU reference loops over the same) --------
 
 vec3 probeMeanIrradiance(uint probe, float gamma) {
   vec3 sum = vec3(0.0f);
@@ -303,23 +303,35 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     uint slots = f.selection.z;
     uint base = g * slots * n;
     bool moved = offset != vec3(oldData);
-    if (entered || moved) {
+    // The other probes' entries are checked by the cache-check pass, an invocation each.
+    if (entered || moved)
       for (uint i = 0u; i < slots * n; ++i) PROBE_CACHE(base + i) = uvec2(0u);
-    } else if ((f.options.x & kProbeOptionCacheCheck) != 0u) {
-      vec3 o = grid + offset;
-      uint dropped = 0u;
-      for (uint slot = 0u; slot < slots; ++slot)
-        for (uint ray = 0u; ray < n; ++ray) {
-          uvec2 e = PROBE_CACHE(base + slot * n + ray);
-          if ((e.y & kHitCacheValid) == 0u) continue;
-          if (!probeCacheStillValid(f, c, o, probeRotationSlotDirection(slot, ray, n), e)) {
-            PROBE_CACHE(base + slot * n + ray) = uvec2(0u);
-            dropped += 1u;
-          }
-        }
-      if (dropped > 0u) PROBE_STAT_ADD(kProbeStatCacheInvalidated, dropped);
-    }
   }
   PROBE_DATA(g) = vec4(offset, float(state));
   PROBE_HISTORY(g) = newHist;
+}
+
+// Hit-cache check pass (probe_cache_check.comp), after classify, when a window scrolled or pages
+// changed (kProbeOptionCacheCheck): entry i of the hit cache (probe i / (slots · n), then slot,
+// then ray) is dropped when probeCacheStillValid says a fresh trace could now differ. One
+// invocation per entry: as a loop over the probe's entries inside classify, one thread walked
+// up to 512 entries serially and a scrolling frame's classify took 0.49 ms on the H200 instead
+// of 0.06. Entries of probes that entered or moved were already cleared by classify, and the
+// probe's offset is the one classify just wrote.
+void probeCacheCheckPass(ProbeFrame f, uint i) {
+  if ((f.options.x & kProbeOptionHitCache) == 0u || (f.options.x & kProbeOptionCacheCheck) == 0u)
+    return;
+  uvec2 e = PROBE_CACHE(i);
+  if ((e.y & kHitCacheValid) == 0u) return;
+  uint n = PROBE_VOLUME(0u).countsRays.w;  // rays per probe: the same in every volume
+  uint perProbe = f.selection.z * n;
+  uint g = i / perProbe;
+  uint slot = (i % perProbe) / n;
+  uint ray = i % n;
+  uint c = g / f.counts.y;
+  ProbeVolume v = PROBE_VOLUME(c);
+  vec3 o = probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(PROBE_DATA(g));
+  bool valid = probeCacheStillValid(f, c, o, probeRotationSlotDirection(slot, ray, n), e);
+  if (!valid) PROBE_CACHE(i) = uvec2(0u);
+  PROBE_STAT_COUNT(kProbeStatCacheInvalidated, valid ? 0u : 1u);
 }

@@ -91,9 +91,10 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
   o.renderer.settings.probes.rayBudget =
       std::uint32_t(args.integer("--probe-budget", int(defaultProbeBudget), 1, 1 << 30));
   o.renderer.settings.light.relightPageBudget = defaultRelightBudget;
-  if (auto pages = args.value("--relight-pages"); pages && *pages != "all")
+  if (auto pages = args.value("--relight-pages"))
     o.renderer.settings.light.relightPageBudget =
-        std::uint32_t(args.integer("--relight-pages", 0, 1, 1 << 20));
+        *pages == "all" ? kRelightEveryPage
+                        : std::uint32_t(args.integer("--relight-pages", 0, 1, 1 << 20));
   const std::string direct = args.value("--direct").value_or("pixel");
   if (direct != "pixel" && direct != "cache")
     throw usage("--direct expects pixel or cache, got '" + direct + "'");

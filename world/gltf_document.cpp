@@ -11,24 +11,13 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/read_file.h"
 #include "world/gltf_meshopt.h"
 
 namespace sdfstream::gltf {
 namespace {
 
 using Kind = InputErrorKind;
-
-std::vector<unsigned char> readFile(const std::filesystem::path& path, const std::string& file) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw InputError(Kind::Io, file, "is a directory, expected a .gltf or .glb file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(Kind::Io, file, std::string("cannot open: ") + std::strerror(errno));
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(Kind::Io, file, "read error");
-  return bytes;
-}
 
 std::uint32_t readU32(const unsigned char* p) {
   return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
@@ -83,11 +72,11 @@ void refuseUnsupportedRequirements(const Json& json, const std::string& file) {
   if (it == json.end()) return;  // checkTypes saw an array of strings
   for (const Json& name : *it) {
     const std::string n = name.get<std::string>();
-    if (std::none_of(std::begin(kSupportedRequiredExtensions), std::end(kSupportedRequiredExtensions),
-                     [&](const char* s) { return n == s; }))
-      throw InputError(Kind::Unsupported, file,
-                       "requires the glTF extension " + n.substr(0, 100) +
-                           ", which sdfstream does not support");
+    if (std::none_of(std::begin(kSupportedRequiredExtensions),
+                     std::end(kSupportedRequiredExtensions), [&](const char* s) { return n == s; }))
+      throw InputError(
+          Kind::Unsupported, file,
+          "requires the glTF extension " + n.substr(0, 100) + ", which sdfstream does not support");
   }
 }
 
@@ -117,12 +106,11 @@ tinygltf::Model runTinygltf(const std::vector<unsigned char>& bytes, std::size_t
   tinygltf::Model model;
   std::string err, warn;
   const std::string baseDir = path.parent_path().string();
-  const bool ok =
-      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(length),
-                                           baseDir)
-             : loader.LoadASCIIFromString(&model, &err, &warn,
-                                          reinterpret_cast<const char*>(bytes.data()),
-                                          unsigned(length), baseDir);
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
+                                                       unsigned(length), baseDir)
+                         : loader.LoadASCIIFromString(&model, &err, &warn,
+                                                      reinterpret_cast<const char*>(bytes.data()),
+                                                      unsigned(length), baseDir);
   if (!ok || !err.empty()) throwTinygltfError(err, file);
   return model;
 }
@@ -130,7 +118,7 @@ tinygltf::Model runTinygltf(const std::vector<unsigned char>& bytes, std::size_t
 }  // namespace
 
 Document loadDocument(const std::filesystem::path& path, const std::string& file) {
-  std::vector<unsigned char> bytes = readFile(path, file);
+  std::vector<unsigned char> bytes = readWholeFile<std::vector<unsigned char>>(path, file);
   const bool binary = path.extension() == ".glb" ||
                       (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0);
   Document doc;

@@ -16,6 +16,7 @@
 
 #include "core/error.h"
 #include "core/printable.h"
+#include "core/read_file.h"
 #include "world/gltf_import.h"
 #include "world/obj_import.h"
 
@@ -141,7 +142,8 @@ HeightfieldDesc readTerrain(const Reader& r, const Json& t, const std::filesyste
   if (desc.png.is_relative()) desc.png = dir / desc.png;
   std::error_code ec;
   if (!std::filesystem::exists(desc.png, ec))
-    r.fail(Kind::MissingData, path + ".heightmap", printable(desc.png.string()) + " does not exist");
+    r.fail(Kind::MissingData, path + ".heightmap",
+           printable(desc.png.string()) + " does not exist");
   auto required = [&](const char* key) {
     auto it = t.find(key);
     if (it == t.end()) r.fail(Kind::Malformed, path + "." + key, "required");
@@ -189,11 +191,7 @@ void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm:
 
 ParsedLayout parseLayout(const std::filesystem::path& jsonFile) {
   Reader r{jsonFile.string()};
-  std::ifstream in(jsonFile, std::ios::binary);
-  std::error_code ec;
-  if (!in || std::filesystem::is_directory(jsonFile, ec))
-    throw InputError(Kind::Io, r.file, std::string("cannot open: ") + std::strerror(errno));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = readWholeFile(jsonFile, r.file);
   Json root;
   try {
     root = Json::parse(text);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <mutex>
+#include <sstream>
 #include <string>
 
 #include <openvdb/io/Stream.h>
@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "core/printable.h"
+#include "core/read_file.h"
 #include "world/color_pack.h"
 #include "world/level_set_bricks.h"
 #include "world/vdb_preflight.h"
@@ -58,18 +59,6 @@ std::string describe(const openvdb::GridBase& grid) {
 std::string kindOf(const openvdb::GridBase& grid) {
   if (grid.getGridClass() == openvdb::GRID_UNKNOWN) return "float grid, not a level set";
   return vdbGridKind(openvdb::GridBase::gridClassToString(grid.getGridClass()), grid.valueType());
-}
-
-std::string readWholeFile(const std::filesystem::path& path, const std::string& file) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(InputErrorKind::Io, file, "cannot open");
-  std::string bytes;
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec) bytes.reserve(size);
-  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(InputErrorKind::Io, file, "read failed");
-  return bytes;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -160,8 +161,9 @@ TEST(Cli, RenderGiFlags) {
   for (const char* f : {"off.png", "off-direct.png", "off-indirect.png", "on.png", "on-direct.png",
                         "on-indirect.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
-  for (const std::string bad : {"--gi maybe", "--cpu --gi on", "--sun 1,2", "--sky 1,2,3,4",
-                                "--direct sometimes", "--probe-rays 0", "--cards maybe"}) {
+  for (const std::string bad :
+       {"--gi maybe", "--cpu --gi on", "--sun 1,2", "--sky 1,2,3,4", "--direct sometimes",
+        "--probe-rays 0", "--cards maybe", "--relight-pages 0", "--relight-pages some"}) {
     RunResult r = run("render " + world + " -o " + (dir / "bad.png").string() + " " + bad);
     EXPECT_EQ(r.exitCode, 2) << bad;
     EXPECT_EQ(lineCount(r.err), 1) << bad << ": " << r.err;
@@ -170,9 +172,31 @@ TEST(Cli, RenderGiFlags) {
   for (const char* cmd : {"render", "demo", "fly"}) {
     RunResult help = run(std::string(cmd) + " --help");
     EXPECT_EQ(help.exitCode, 0) << cmd;
-    for (const char* flag :
-         {"--gi on|off", "--gi-frames", "--probe-rays", "--sun", "--sky", "--cards on|off"})
+    for (const char* flag : {"--gi on|off", "--gi-frames", "--probe-rays", "--sun", "--sky",
+                             "--cards on|off", "--relight-pages N|all"})
       EXPECT_NE(help.out.find(flag), std::string::npos) << cmd << " --help lacks " << flag;
+  }
+}
+
+// fly's light-cache budget: a number, or "all" for every out-of-date page each frame, as its
+// summary reports it.
+TEST(Cli, FlyRelightBudgetReachesTheSummary) {
+  fs::path dir = test::scratchDir("cli-relight");
+  RunResult imp = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                      " -o " + (dir / "world").string());
+  ASSERT_EQ(imp.exitCode, 0) << imp.err;
+  for (const std::string budget : {"7", "all"}) {
+    const fs::path out = dir / ("fly-" + budget);
+    RunResult fly = run("fly " + (dir / "world").string() + " -o " + out.string() +
+                        " --frames 2 --width 16 --height 16 --objects 0 --probe-budget 256 "
+                        "--cascades 1 --relight-pages " +
+                        budget);
+    ASSERT_EQ(fly.exitCode, 0) << fly.err;
+    std::ifstream in(out / "summary.md");
+    const std::string md{std::istreambuf_iterator<char>(in), {}};
+    const std::string expected =
+        budget == "all" ? "every out-of-date page each frame" : "Budget: 7 pages per frame";
+    EXPECT_NE(md.find(expected), std::string::npos) << budget << ":\n" << md;
   }
 }
 
