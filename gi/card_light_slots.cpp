@@ -17,7 +17,8 @@ constexpr std::int64_t kLightsChangedBoost = std::int64_t(1) << 40;
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
                                                   std::span<const std::uint32_t> meshTexels,
                                                   bool relightAll, std::uint32_t budget,
-                                                  std::uint64_t capacityTexels, glm::vec3 viewer) {
+                                                  std::uint64_t capacityTexels, glm::vec3 viewer,
+                                                  std::uint64_t texelBudget) {
   ++frame_;
   stats_ = {};
   if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
@@ -122,9 +123,16 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   };
   if (take < candidates.size())
     std::nth_element(candidates.begin(), candidates.begin() + take, candidates.end(), byKey);
+  // The texel budget cuts the first `take` in key order (sorting only those).
+  std::sort(candidates.begin(), candidates.begin() + std::ptrdiff_t(take), byKey);
   std::vector<std::uint32_t> relight;
   relight.reserve(take);
-  for (std::size_t k = 0; k < take; ++k) relight.push_back(candidates[k].index);
+  for (std::size_t k = 0; k < take; ++k) {
+    const std::uint64_t texels = texelsOf(instances[candidates[k].index]);
+    if (!relight.empty() && stats_.relitTexels + texels > texelBudget) break;
+    relight.push_back(candidates[k].index);
+    stats_.relitTexels += texels;
+  }
   std::sort(relight.begin(), relight.end());
   for (std::uint32_t i : relight) blocks_[instances[i].info.z].litFrame = frame_;
   for (const Candidate& c : candidates) {

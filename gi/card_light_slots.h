@@ -20,6 +20,7 @@ class CardLightSlots {
  public:
   struct Stats {
     std::uint32_t relit = 0;           // instances in this frame's relight list
+    std::uint64_t relitTexels = 0;     // their card texels
     std::uint32_t withCards = 0;       // instances with a light block
     std::uint32_t overBudget = 0;      // instances left without cards by the memory cap
     std::uint32_t evicted = 0;         // blocks taken from instances farther than the kept ones
@@ -30,8 +31,11 @@ class CardLightSlots {
   // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id):
   // sets info.w (block base, or kNoCardLight when the mesh has no cards or the cap of
   // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
-  // `instances`) to relight, at most `budget`: never lit first, then the longest unlit, a moved
-  // instance counting 8 frames staler (moves first, but no instance starves when all move).
+  // `instances`) to relight, at most `budget` instances and `texelBudget` texels (but at least one
+  // instance: a mesh larger than the texel budget still gets relit, alone): never lit first, then
+  // the longest unlit, a moved instance counting 8 frames staler (moves first, but no instance
+  // starves when all move). The texel budget bounds the pass's time, which grows with texels (a
+  // shadow ray each), not instances: 256 instances of 128² cards would be 25 M texels.
   // relightAll (the lights changed) puts every block lit before the change ahead of those lit
   // since, oldest first among them, so lights that change every frame (a moving sun) still relight
   // every instance in turn. meshTexels[m]: texels of mesh m's cards (0: none).
@@ -42,7 +46,8 @@ class CardLightSlots {
   std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,
                                     std::span<const std::uint32_t> meshTexels, bool relightAll,
                                     std::uint32_t budget, std::uint64_t capacityTexels,
-                                    glm::vec3 viewer = glm::vec3(0.0f));
+                                    glm::vec3 viewer = glm::vec3(0.0f),
+                                    std::uint64_t texelBudget = ~std::uint64_t(0));
 
   // Texels the atlas must hold: every block ever handed out (the high-water mark).
   std::uint64_t endTexel() const { return end_; }

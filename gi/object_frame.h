@@ -47,6 +47,10 @@ struct ObjectSceneSettings {
   // Instances whose card light is recomputed per frame at most: moved or never lit first, then
   // the longest unlit (so with N instances nothing is staler than N / budget frames).
   std::uint32_t cardRelightBudget = 256;
+  // Card texels relit per frame at most (the pass's cost is a shadow ray per texel; at least one
+  // instance is relit per frame whatever its size). 131072 keeps the stress world's 256 small
+  // instances whole and spreads a few large objects' 98k-texel cards over frames.
+  std::uint64_t cardRelightTexelBudget = 131072;
   // Card light memory cap (4 bytes per texel). When the instances want more, the nearest to the
   // camera (cascade 0's centre) keep cards and the farther ones are evicted (CardLightSlots).
   std::uint64_t cardLightBudgetBytes = 256ull << 20;

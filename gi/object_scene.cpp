@@ -111,6 +111,7 @@ void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) 
       gs::CardGpu c = cards.cards[k];
       c.first.y = first;
       cardTable_[m * gs::kCardsPerMesh + k] = c;
+      maxCardTexels_ = std::max(maxCardTexels_, c.info.z * c.info.w);
     }
     cardTexels_.insert(cardTexels_.end(), texels.begin(), texels.end());
     meshTexels_[m] = cards.texelCount;
@@ -136,8 +137,9 @@ void ObjectScene::recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& st
     for (gs::ObjectInstanceGpu& inst : frame_.instances) inst.info.w = gs::kNoCardLight;
     return;
   }
-  relight_ = slots_.assign(frame_.instances, meshTexels_, lightsChanged,
-                           settings_.cardRelightBudget, settings_.cardLightBudgetBytes / 4, viewer);
+  relight_ =
+      slots_.assign(frame_.instances, meshTexels_, lightsChanged, settings_.cardRelightBudget,
+                    settings_.cardLightBudgetBytes / 4, viewer, settings_.cardRelightTexelBudget);
   const std::size_t needed = std::size_t(slots_.endTexel()) * sizeof(std::uint32_t);
   if (cardLight_.size() < needed) {
     // Grow by half again at least; blocks already lit keep their light.

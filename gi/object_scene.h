@@ -81,6 +81,9 @@ class ObjectScene {
   // Card light of this frame (shaders/card_light.comp, dispatched by the light cache): the
   // instance indices to relight, uploaded by record(), and the buffer the pass writes.
   std::uint32_t cardRelightCount() const { return std::uint32_t(relight_.size()); }
+  // Texels of the largest card of any mesh: the card light pass spreads each instance over
+  // ceil(this / 64) workgroups.
+  std::uint32_t maxCardTexels() const { return maxCardTexels_; }
   const gpu::Buffer& cardRelightList() const { return relightList_; }
   const gpu::Buffer& cardLight() const { return cardLight_; }
   const CardLightSlots::Stats& cardStats() const { return slots_.stats(); }
@@ -133,6 +136,7 @@ class ObjectScene {
   std::unique_ptr<CardRasterizer> rasterizer_;
   CardLightSlots slots_;
   std::vector<std::uint32_t> meshTexels_, relight_;
+  std::uint32_t maxCardTexels_ = 0;
   std::vector<gpu_shared::CardGpu> cardTable_;
   std::vector<gpu_shared::CardTexelGpu> cardTexels_;
   double captureMilliseconds_ = 0.0;

@@ -1,7 +1,7 @@
 #version 450
-// Card light pass (gi/object_scene.h, ObjectScene card light; math in card_light.glsl): one
-// workgroup per listed instance (y = index into the relight list), its threads over the texels
-// of the instance's mesh's six cards; each texel's light is written as RGB9E5 at the instance's
+// Card light pass (gi/object_scene.h, ObjectScene card light; math in card_light.glsl): a row
+// of workgroups per listed instance (y = index into the relight list; x: enough workgroups for
+// the largest card), its threads over the texels of each of the instance's mesh's six cards; each texel's light is written as RGB9E5 at the instance's
 // card-light base (ObjectInstanceGpu::info.w) + the texel's mesh index. Instances not listed keep
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
@@ -53,7 +53,7 @@ void main() {
   for (uint k = 0u; k < kCardsPerMesh; ++k) {
     CardGpu c = OBJ_CARD(inst.info.x * kCardsPerMesh + k);
     uint count = c.info.z * c.info.w;
-    for (uint t = gl_LocalInvocationID.x; t < count; t += gl_WorkGroupSize.x) {
+    for (uint t = gl_GlobalInvocationID.x; t < count; t += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
       uint local = c.first.x + t;
       CardTexelGpu texel = OBJ_CARD_TEXEL(c.first.y + local);
       vec3 radiance = cardTexelRadiance(inst, m, c, t, texel, pc.counts.y, pc.params.x,

@@ -364,5 +364,41 @@ TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
   EXPECT_EQ(all.size(), 10u) << "three frames of 4 relight all 10 after a change";
 }
 
+// The texel budget: the relight list stops before the texels exceed it, a mesh larger than the
+// budget is still relit (alone), and under lights that change every frame every instance still
+// comes round (oldest first).
+TEST(CardLightSlots, ATexelBudgetBoundsTheWorkButRelightsAtLeastOne) {
+  CardLightSlots slots;
+  const std::uint32_t texels[2] = {10, 100};  // mesh 0 small, mesh 1 larger than the budget
+  const std::uint32_t smallIds[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  const std::uint32_t largeIds[2] = {8, 9};
+  auto frame = instancesOf(smallIds, 0, false);
+  const auto large = instancesOf(largeIds, 1, false);
+  frame.insert(frame.end(), large.begin(), large.end());
+  constexpr std::uint64_t kTexelBudget = 50, kCap = 1u << 20;
+  // Never lit, index order: five small instances fill the 50 texels.
+  EXPECT_EQ(slots.assign(frame, texels, false, 100, kCap, {}, kTexelBudget),
+            (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(slots.stats().relitTexels, 50u);
+  // Then 5..7 (30 texels); the large 8 would exceed the budget after them.
+  EXPECT_EQ(slots.assign(frame, texels, false, 100, kCap, {}, kTexelBudget),
+            (std::vector<std::uint32_t>{5, 6, 7}));
+  // The large instances come first now (never lit) and go one a frame, alone.
+  EXPECT_EQ(slots.assign(frame, texels, false, 100, kCap, {}, kTexelBudget),
+            (std::vector<std::uint32_t>{8}));
+  EXPECT_EQ(slots.stats().relitTexels, 100u);
+  EXPECT_EQ(slots.assign(frame, texels, false, 100, kCap, {}, kTexelBudget),
+            (std::vector<std::uint32_t>{9}));
+  // A moving sun: 280 texels at 50 (or one large instance) a frame; everyone comes round.
+  std::vector<int> lastLit(frame.size(), -1);
+  for (int f = 0; f < 40; ++f)
+    for (std::uint32_t i : slots.assign(frame, texels, true, 100, kCap, {}, kTexelBudget)) {
+      lastLit[i] = f;
+      EXPECT_TRUE(slots.stats().relitTexels <= kTexelBudget || slots.stats().relit == 1u);
+    }
+  for (std::size_t i = 0; i < lastLit.size(); ++i) EXPECT_GE(lastLit[i], 30) << "instance " << i;
+  EXPECT_LE(slots.stats().maxStaleFrames, 10u);
+}
+
 }  // namespace
 }  // namespace sdfstream
