@@ -23,8 +23,10 @@ std::vector<std::uint32_t> LightRelightQueue::select(const CascadeStackImage& im
   const std::size_t count = image.pageTables.size();
   // A new cascade count: lightDirtyPages lists every resident page as changed then.
   if (pages_.size() != count) pages_.assign(count, PageState{});
+  // A brick that changes again while it waits keeps its place: a page the fly-through keeps
+  // rewriting (scrolling back and forth) would otherwise always be the newest and never lit.
   for (std::uint32_t p : changedPages)
-    if (p < count) pages_[p] = PageState{frame, true};
+    if (p < count) pages_[p] = PageState{std::min(pages_[p].outOfDateSince, frame), true};
   for (std::uint32_t p : shadowedPages)
     if (p < count && pages_[p].outOfDateSince == kUpToDate) pages_[p].outOfDateSince = frame;
 

@@ -125,6 +125,27 @@ TEST(LightRelightQueue, AShadowedPageKeepsItsPlaceAndAnEvictedPageIsForgotten) {
   EXPECT_EQ(queue.stats().maxStalenessFrames, 0u);
 }
 
+// A page whose brick changes every frame (a fly-through scrolling back and forth over it) keeps
+// its place in the queue: it is lit within the bound, not starved behind newer arrivals.
+TEST(LightRelightQueue, ABrickThatKeepsChangingIsNotStarved) {
+  constexpr std::uint32_t kResident = 400, kBudget = 8;
+  const CascadeStackImage image = stackWithResidentPages(kResident);
+  LightRelightQueue queue(kBudget);
+  queue.select(image, allPages(kResident), {}, false);
+  int litAt = -1;
+  for (int frame = 1; frame < 200 && litAt < 0; ++frame) {
+    // Page 399 changes every frame, and so do 40 others: more arrivals than the budget.
+    std::vector<std::uint32_t> changed{399};
+    for (std::uint32_t k = 0; k < 40; ++k) changed.push_back((std::uint32_t(frame) * 40 + k) % 399);
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    const auto relit = queue.select(image, changed, {}, true);
+    if (std::binary_search(relit.begin(), relit.end(), 399u)) litAt = frame;
+  }
+  ASSERT_GE(litAt, 1) << "page 399 never lit";
+  EXPECT_LE(litAt, int(kResident / (kBudget / 2)) + 1);
+}
+
 TEST(LightRelightQueue, ABudgetOfNoPagesIsRefused) {
   EXPECT_THROW(LightRelightQueue(0), std::invalid_argument);
   EXPECT_EQ(LightCacheSettings{}.relightPageBudget, kRelightEveryPage);
