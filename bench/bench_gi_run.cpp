@@ -290,9 +290,7 @@ double ConfigRun::measureRelightMs(int repeats) {
     ++lights_.version;
     ms.push_back(step().lightMilliseconds);
   }
-  if (ms.empty()) return 0.0;
-  std::nth_element(ms.begin(), ms.begin() + std::ptrdiff_t(ms.size() / 2), ms.end());
-  return ms[ms.size() / 2];
+  return median(std::move(ms));
 }
 
 void ConfigRun::measureMovingSun(std::uint32_t pageBudget, int warmup, int frames,
@@ -310,10 +308,7 @@ void ConfigRun::measureMovingSun(std::uint32_t pageBudget, int warmup, int frame
     row.residentPages = s.relight.selected + s.relight.pending;
   }
   gi_.setRelightPageBudget(kRelightEveryPage);
-  if (!ms.empty()) {
-    std::nth_element(ms.begin(), ms.begin() + std::ptrdiff_t(ms.size() / 2), ms.end());
-    row.lightMs = ms[ms.size() / 2];
-  }
+  row.lightMs = median(std::move(ms));
   r.movingSun.push_back(row);
 }
 

@@ -164,8 +164,9 @@ std::string objectSummaryMarkdown(const std::vector<GiFrameMetrics>& frames, boo
       text, sizeof text,
       "\n## Moving objects\n\n%u scripted objects along the path (--objects), moved every frame. "
       "Region lists (object_regions passes): mean %.2f ms, p99 %.2f ms per frame; light-cache "
-      "pages relit because objects moved: mean %.0f per frame (inside the light cache time "
-      "above); probe rays that searched the objects: mean %.0f per frame, of which %.0f hit one%s; "
+      "pages put out of date because objects moved: mean %.0f per frame (relit within the "
+      "budget above, inside the light cache time); probe rays that searched the objects: mean %.0f "
+      "per frame, of which %.0f hit one%s; "
       "pixels showing an object in the rendered frames: mean %.0f. Their search in primary "
       "rays and shadow rays is inside shade_primary's time (gi.csv has every frame).\n",
       instances, mean(regions), percentile(regions, 0.99), mean(relit), mean(rays), mean(hits),

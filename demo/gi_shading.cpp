@@ -4,7 +4,6 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
-#include <iterator>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -35,8 +35,8 @@ constexpr std::uint32_t kRelightBudgetOfDevice = 0;
 //  - light-cache pages relit per frame: a sun that moves every frame relights every resident page
 //    (4,000-8,000 in a fly-through) each frame without a budget, 2.6 s a frame on lavapipe; 64
 //    pages there, 256 on a GPU (0.23 ms a frame for Sponza on an H200, every page relit within
-//    56 frames; LightRelightQueue: the longest out of date first). stress keeps
-//    relighting every page, so its light-cache cost is the whole cost.
+//    56 frames; LightRelightQueue: the longest out of date first). stress keeps relighting
+//    every page, so its light-cache cost is the whole cost.
 inline void resolveDeviceBudgets(GiSettings& settings, const gpu::Context* context) {
   const bool software = context && context->isSoftware();
   if (settings.probes.rayBudget == kProbeBudgetOfDevice)

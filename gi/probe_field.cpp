@@ -147,9 +147,6 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants classify = push(0, probes);
   const std::uint32_t cacheEntries = std::uint32_t(sizes_.cacheEntries);
   const ProbePushConstants cacheCheck = push(0, cacheEntries);
-  const std::uint32_t options = lastFrame_.constants.options.x;
-  const bool checkCache = (options & gpu_shared::kProbeOptionHitCache) != 0u &&
-                          (options & gpu_shared::kProbeOptionCacheCheck) != 0u;
   const ProbePushConstants count = push(gpu_shared::kProbeSelectModeCount, probes);
   const ProbePushConstants emit = push(gpu_shared::kProbeSelectModeEmit, probes);
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
@@ -160,7 +157,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
   // Only frames whose windows scrolled or whose pages changed can invalidate cached rays.
-  if (checkCache)
+  if (checksHitCache(lastFrame_.constants))
     batch.dispatch("probe_cache_check", cacheCheck_, b, &cacheCheck, sizeof cacheCheck,
                    spread(cacheEntries));
   batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));

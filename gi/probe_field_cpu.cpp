@@ -161,14 +161,12 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
     local.probeClassifyPass(f, g);
   });
   // Hit-cache check (probe_cache_check.comp): each entry touches only itself.
-  if ((f.options.x & gpu_shared::kProbeOptionHitCache) != 0u &&
-      (f.options.x & gpu_shared::kProbeOptionCacheCheck) != 0u)
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, cache_.size(), 4096), [&](const auto& r) {
-          auto local = base;
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            local.probeCacheCheckPass(f, std::uint32_t(i));
-        });
+  if (checksHitCache(f))
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cache_.size(), 4096), [&](const auto& r) {
+      auto local = base;
+      for (std::size_t i = r.begin(); i < r.end(); ++i)
+        local.probeCacheCheckPass(f, std::uint32_t(i));
+    });
   // Select (probe_select.comp): count, then emit. Serial emit in probe order: the GPU's list
   // order differs, but each probe's results do not depend on its list position.
   tbb::parallel_for(std::uint32_t(0), probes, [&](std::uint32_t g) {

@@ -86,6 +86,14 @@ struct ProbeFieldSettings {
 };
 
 // What the caller knows about a frame besides the stack.
+// Whether frame f checks the hit cache (probeCacheCheckPass): the cache is on and a window
+// scrolled or pages changed (kProbeOptionCacheCheck); the GPU and CPU fields dispatch the pass
+// only then.
+inline bool checksHitCache(const gpu_shared::ProbeFrame& f) {
+  return (f.options.x & gpu_shared::kProbeOptionHitCache) != 0u &&
+         (f.options.x & gpu_shared::kProbeOptionCacheCheck) != 0u;
+}
+
 struct ProbeFrameInputs {
   glm::dvec3 cameraWorld{0.0};
   glm::vec3 viewDirection{0.0f, 0.0f, -1.0f};

@@ -1,7 +1,8 @@
 #version 450
 // Card light pass (gi/object_scene.h, ObjectScene card light; math in card_light.glsl): a row
 // of workgroups per listed instance (y = index into the relight list; x: enough workgroups for
-// the largest card), its threads over the texels of each of the instance's mesh's six cards; each texel's light is written as RGB9E5 at the instance's
+// the largest card), its threads over the texels of each of the instance's mesh's six cards;
+// each texel's light is written as RGB9E5 at the instance's
 // card-light base (ObjectInstanceGpu::info.w) + the texel's mesh index. Instances not listed keep
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
