@@ -245,6 +245,10 @@ class FlyThrough {
   void withinDeviceMemory(int f, const Work& work) {
     for (;;) {
       try {
+        if (f == injectOutOfMemoryFrame_) {
+          injectOutOfMemoryFrame_ = -1;
+          throw gpu::OutOfDeviceMemory("injected by SDFSTREAM_INJECT_DEVICE_OOM_FRAME");
+        }
         work();
         return;
       } catch (const gpu::OutOfDeviceMemory& e) {
@@ -406,6 +410,13 @@ class FlyThrough {
   std::uint32_t atlasSlotsWanted_ = 0;  // non-zero: the device held fewer slots (reserveAtlas)
   int atlasShrinks_ = 0;                // mid-run shrinks after running out of device memory
   bool reuploadAtlas_ = false;          // the next GI update uploads every slot
+  // Test hook: SDFSTREAM_INJECT_DEVICE_OOM_FRAME=F makes frame F's GPU part fail once as an
+  // allocation would, so the recovery above is tested at a known frame, not at whichever frame
+  // the loader's timing makes a pass grow.
+  int injectOutOfMemoryFrame_ = [] {
+    const char* v = std::getenv("SDFSTREAM_INJECT_DEVICE_OOM_FRAME");
+    return v && *v ? std::atoi(v) : -1;
+  }();
 
   std::string degradedNote() const {
     if (!atlasSlotsWanted_) return "";
