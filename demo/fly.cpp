@@ -173,14 +173,7 @@ class FlyThrough {
     world_.setObjects(flyObjects(ground, path_, os));
   }
 
-  Camera cameraAt(double s) const {
-    Camera cam;
-    cam.position = path_.position(s);
-    const glm::dvec3 dir = path_.direction(s);
-    cam.target = cam.position + glm::normalize(dir + glm::dvec3(0.0, -0.25, 0.0)) * 10.0;
-    cam.fovYDegrees = 60.0;
-    return cam;
-  }
+  Camera cameraAt(double s) const { return pathCamera(path_, s); }
 
   // Stream, move the objects, update the GI, and render when this frame is written.
   void frame(int f, double seconds) {

@@ -107,4 +107,13 @@ FlyPath defaultFlyPath(const glm::dvec3& lo, const glm::dvec3& hi) {
   return path;
 }
 
+Camera pathCamera(const FlyPath& path, double s) {
+  Camera cam;
+  cam.position = path.position(s);
+  cam.target =
+      cam.position + glm::normalize(path.direction(s) + glm::dvec3(0.0, -0.25, 0.0)) * 10.0;
+  cam.fovYDegrees = 60.0;
+  return cam;
+}
+
 }  // namespace sdfstream

@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "gi/camera.h"
+
 namespace sdfstream {
 
 struct FlyPath {
@@ -26,5 +28,9 @@ FlyPath readFlyPath(const std::filesystem::path& file);
 // A default route over a world's bounds: a gentle S across the longest horizontal axis at a
 // height a little above the middle of the bounds.
 FlyPath defaultFlyPath(const glm::dvec3& boundsMin, const glm::dvec3& boundsMax);
+
+// The fly-through's camera at arc length s: on the path, looking along it and a little down
+// (the ground ahead stays in view), 60 degrees vertical field of view.
+Camera pathCamera(const FlyPath& path, double s);
 
 }  // namespace sdfstream

@@ -12,6 +12,7 @@ int runVerify(int argc, char** argv);         // tools/cmd_pack.cpp
 int runMerge(int argc, char** argv);          // tools/cmd_pack.cpp
 int runDemo(int argc, char** argv);           // tools/cmd_demo.cpp
 int runFly(int argc, char** argv);            // tools/cmd_fly.cpp
+int runView(int argc, char** argv);           // tools/cmd_view.cpp
 int runGenerateWorld(int argc, char** argv);  // tools/cmd_generate_world.cpp
 int runBench(int argc, char** argv);          // tools/cmd_bench.cpp
 int runBenchScroll(int argc, char** argv);    // tools/cmd_bench_stream.cpp (argv[2] == "scroll")

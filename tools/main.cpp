@@ -22,6 +22,7 @@ const char* kUsage =
     "  generate-world -o LAYOUT.json   write the large built-in world's layout\n"
     "  bench import|...   benchmarks (outputs under out/bench)\n"
     "  fly WORLD -o DIR [--path FILE] [--frames N]   stream a fly-through; frames + metrics\n"
+    "  view WORLD [--script FILE]   fly in a window (WASD, mouse); streaming and GI live\n"
     "  stress WORLD [--objects 0,10,100,1000,10000]   moving-object stress benchmark: GPU time\n"
     "                 vs object count, regions vs naive vs static-only (outputs under out/stress)\n"
     "  demo [-o DIR]  import the built-in scene, render views, write PNGs and a report\n";
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
     if (command == "merge") return sdfstream::cli::runMerge(argc, argv);
     if (command == "demo") return sdfstream::cli::runDemo(argc, argv);
     if (command == "fly") return sdfstream::cli::runFly(argc, argv);
+    if (command == "view") return sdfstream::cli::runView(argc, argv);
     if (command == "generate-world") return sdfstream::cli::runGenerateWorld(argc, argv);
     if (command == "bench") return sdfstream::cli::runBench(argc, argv);
     if (command == "stress") return sdfstream::cli::runStress(argc, argv);

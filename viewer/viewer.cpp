@@ -1,0 +1,289 @@
+#include "viewer/viewer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "demo/fly_path.h"
+#include "demo/frame_image.h"
+#include "demo/moving_objects.h"
+#include "viewer/fly_camera.h"
+#include "viewer/swapchain_presenter.h"
+#include "viewer/view_picture.h"
+#include "viewer/view_script.h"
+#include "viewer/window.h"
+
+namespace sdfstream::viewer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+
+constexpr double kDegrees = 3.14159265358979323846 / 180.0;
+constexpr double kScriptFrameSeconds = 1.0 / 30.0;  // scripted and headless frames: fixed steps
+constexpr double kSunStepDegrees = 5.0;
+constexpr float kSunIntensityStep = 1.25f;
+constexpr double kSoftwareRenderScale = 0.25;
+// Settling streams with the loader drained between steps; a pack whose pages can never all be
+// resident (atlas full, failed tiles) stops after this many steps.
+constexpr int kMaxSettleSteps = 256;
+
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// The first sun of the lights, turned by azimuth/elevation steps (degrees) and scaled.
+void adjustSun(SceneLights& lights, double azimuthStep, double elevationStep, float scale) {
+  for (SceneLight& l : lights.lights) {
+    if (l.type != SceneLight::Type::Sun) continue;
+    const glm::dvec3 toSun = -glm::normalize(glm::dvec3(l.direction));
+    double elevation = std::asin(std::clamp(toSun.y, -1.0, 1.0)) / kDegrees;
+    double azimuth = std::atan2(toSun.x, toSun.z) / kDegrees;
+    elevation = std::clamp(elevation + elevationStep, -89.0, 89.0);
+    azimuth += azimuthStep;
+    const double e = elevation * kDegrees, a = azimuth * kDegrees;
+    l.direction = -glm::vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a));
+    l.intensity *= scale;
+    ++lights.version;
+    return;
+  }
+}
+
+std::string sunText(const SceneLights& lights) {
+  for (const SceneLight& l : lights.lights) {
+    if (l.type != SceneLight::Type::Sun) continue;
+    const glm::dvec3 toSun = -glm::normalize(glm::dvec3(l.direction));
+    char text[96];
+    std::snprintf(text, sizeof text, "sun azimuth %.0f elevation %.0f E %.2f",
+                  std::atan2(toSun.x, toSun.z) / kDegrees,
+                  std::asin(std::clamp(toSun.y, -1.0, 1.0)) / kDegrees, l.intensity);
+    return text;
+  }
+  return "no sun";
+}
+
+class ViewSession {
+ public:
+  explicit ViewSession(const ViewOptions& o) : o_(o) {
+    if (o.script) script_ = readViewScript(*o.script);  // bad scripts fail before a window opens
+    if (o.headless) {
+      ownContext_ = gpu::Context::create(o.device);
+    } else {
+      window_ =
+          std::make_unique<Window>(o.width, o.height, "sdfstream view " + o.world.world.string());
+      presenter_ = std::make_unique<SwapchainPresenter>(*window_, o.device, o.vsync);
+    }
+    gpu::Context& context = presenter_ ? presenter_->context() : *ownContext_;
+    software_ = context.isSoftware();
+    renderScale_ = o.renderScale > 0.0 ? o.renderScale : software_ ? kSoftwareRenderScale : 1.0;
+    world_ = std::make_unique<StreamedGi>(o.world, &context);
+    const PackManifest& manifest = world_->store().manifest();
+    const FlyPath path = defaultFlyPath(manifest.boundsMin, manifest.boundsMax);
+    const double diagonal = glm::length(manifest.boundsMax - manifest.boundsMin);
+    const double speed = o.speed > 0.0 ? o.speed : std::max(0.5, diagonal / 30.0);
+    camera_ = std::make_unique<FlyCamera>(o.camera ? *o.camera : pathCamera(path, 0.0), speed);
+    if (o.objects > 0) {
+      PackGround ground(world_->store(), manifest.boundsMin.y, manifest.boundsMax.y);
+      FlyObjectsSettings os;
+      os.count = o.objects;
+      os.sBegin = std::min(15.0, path.length());
+      os.sEnd = std::min(path.length(), 90.0 + 10.0 * speed);
+      world_->setObjects(flyObjects(ground, path, os));
+    }
+    std::printf("view: %s on %s, %d cascades, rendering at %.0f%% of the %s%s\n",
+                o.world.world.c_str(), context.deviceName().c_str(), world_->stack().cascadeCount(),
+                renderScale_ * 100.0, o.headless ? "picture size (headless)" : "window",
+                software_ ? " (CPU Vulkan device: lower resolution and probe budget)" : "");
+  }
+
+  int run() {
+    auto last = Clock::now();
+    int frame = 0;
+    for (;; ++frame) {
+      if (o_.frames > 0 && frame >= o_.frames) break;
+      if (o_.script && std::size_t(frame) >= script_.size()) break;
+      const ScriptFrame* scripted = o_.script ? &script_[frame] : nullptr;
+      FrameInput input;
+      if (window_) input = window_->poll();  // scripted runs still service the window
+      if (scripted) input = scripted->input;
+      if (window_ && window_->closeRequested()) break;
+      if (input.presses[int(Action::Quit)] > 0) break;
+      if (scripted && scripted->camera) camera_->set(*scripted->camera);
+      applyPresses(input);
+
+      const auto now = Clock::now();
+      const double dt =
+          (scripted || !window_) ? kScriptFrameSeconds : std::min(0.1, seconds(now - last));
+      frameMilliseconds_ = 0.9 * frameMilliseconds_ + 0.1 * seconds(now - last) * 1e3;
+      last = now;
+      camera_->update(input, dt);
+      const Camera cam = camera_->camera();
+      if (scripted && scripted->settle) settle(cam);
+      stream_ = world_->stream(cam);
+      if (!paused_) simSeconds_ += dt;
+      if (DemoObjects* objects = world_->objects()) objects->apply(simSeconds_);
+
+      const glm::ivec2 size = presenter_ ? presenter_->prepare() : glm::ivec2(o_.width, o_.height);
+      if (size.x <= 0 || size.y <= 0) continue;  // minimised
+      const Image8 picture = render(frame, cam, size);
+      Image8 shown;
+      const bool capture = (scripted && !scripted->captures.empty()) || screenshots_ > 0;
+      if (presenter_) {
+        if (!presenter_->present(picture, capture ? &shown : nullptr) && capture)
+          std::fprintf(stderr,
+                       "note: frame %d was dropped (the swapchain was out of date), "
+                       "its capture is not written\n",
+                       frame);
+      } else if (capture) {
+        shown = picture;
+      }
+      if (!shown.rgb.empty()) writeCaptures(frame, scripted, shown);
+      if (o_.record) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame-%04d.png", frame);
+        fs::create_directories(*o_.record);
+        writePng(*o_.record / name, picture);
+      }
+      ++framesShown_;
+    }
+    std::printf("view: %d frames shown%s\n", framesShown_, world_->degradedNote().c_str());
+    return 0;
+  }
+
+ private:
+  void applyPresses(const FrameInput& input) {
+    auto pressed = [&](Action a) { return input.presses[int(a)]; };
+    if (pressed(Action::Pause) % 2) paused_ = !paused_;
+    if (pressed(Action::ToggleGi) % 2) indirect_ = !indirect_;
+    if (pressed(Action::ToggleHud) % 2) hud_ = !hud_;
+    for (int i = 0; i < pressed(Action::NextView); ++i) mode_ = nextViewMode(mode_);
+    screenshots_ += pressed(Action::Screenshot);
+    const double azimuth = kSunStepDegrees * (pressed(Action::SunRight) - pressed(Action::SunLeft));
+    const double elevation = kSunStepDegrees * (pressed(Action::SunUp) - pressed(Action::SunDown));
+    const float scale = std::pow(kSunIntensityStep,
+                                 float(pressed(Action::SunBrighter) - pressed(Action::SunDimmer)));
+    if (azimuth != 0.0 || elevation != 0.0 || scale != 1.0f)
+      adjustSun(world_->render().lights, azimuth, elevation, scale);
+  }
+
+  // Streams until every page the camera needs is resident (or can never be), with no GI frames
+  // meanwhile, so a scripted capture does not depend on how fast the disk was.
+  void settle(const Camera& cam) {
+    for (int step = 0; step < kMaxSettleSteps; ++step) {
+      const StreamFrameStats s = world_->stream(cam);
+      if (s.missingPages <= s.atlasFullPages + s.failedPages) return;
+      world_->loader().waitIdle();
+    }
+  }
+
+  Image8 render(int frame, const Camera& cam, glm::ivec2 size) {
+    const int width = std::max(16, int(std::lround(size.x * renderScale_)));
+    const int height = std::max(16, int(std::lround(size.y * renderScale_)));
+    ShadedView view;
+    HdrFrame hdr;
+    GiRenderer& renderer = *world_->renderer();
+    world_->withinDeviceMemory(frame, [&] {
+      gi_ = world_->giUpdate(cam);
+      view =
+          renderer.shade(cam, width, height, world_->stack().stackImage(), world_->render().lights);
+      hdr = renderer.finish(view);
+    });
+    Image8 picture = scaleNearest(
+        viewPicture(mode_, view, hdr, indirect_, world_->render().exposureStops), size.x, size.y);
+    if (hud_ && o_.hud) drawHud(picture, hudLines(width, height), size.y >= 1000 ? 2 : 1);
+    return picture;
+  }
+
+  std::vector<std::string> hudLines(int width, int height) const {
+    const GiFrameTimes& t = world_->renderer()->lastTimes();
+    std::uint64_t resident = 0, required = 0;
+    for (const CascadeFrameStats& c : stream_.cascades) {
+      resident += c.residentBricks;
+      required += c.requiredBricks;
+    }
+    char line[4][256];
+    std::snprintf(line[0], sizeof line[0],
+                  "%.1f fps (%.1f ms)  GPU ms: light %.2f  probes %.2f  objects %.2f  shade %.2f  "
+                  "sample %.2f",
+                  frameMilliseconds_ > 0.0 ? 1e3 / frameMilliseconds_ : 0.0, frameMilliseconds_,
+                  gi_.lightMilliseconds, gi_.probeMilliseconds, gi_.objectMilliseconds,
+                  t.shadeMilliseconds, t.sampleMilliseconds);
+    std::snprintf(line[1], sizeof line[1],
+                  "resident %.1f%% of %llu bricks  %u pages missing  %.2f MiB streamed this frame",
+                  required ? 100.0 * double(resident) / double(required) : 100.0,
+                  (unsigned long long)required, stream_.missingPages,
+                  double(stream_.bytesUploaded) / double(1 << 20));
+    std::snprintf(
+        line[2], sizeof line[2], "GI %s: %u probes updated, %u rays  objects %u  view %s%s",
+        indirect_ ? "on" : "off (direct only)", gi_.probes.probesUpdated, gi_.probes.raysTraced,
+        gi_.objectInstances, std::string(viewModeName(mode_)).c_str(), paused_ ? "  PAUSED" : "");
+    std::snprintf(line[3], sizeof line[3], "%s  speed %.1f m/s  %dx%d",
+                  sunText(world_->render().lights).c_str(), camera_->speed(), width, height);
+    std::vector<std::string> lines(std::begin(line), std::end(line));
+    if (software_) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    "CPU Vulkan device: rendering at %.0f%% resolution, %u probe rays a frame",
+                    renderScale_ * 100.0, world_->render().renderer.settings.probes.rayBudget);
+      lines.emplace_back(text);
+    }
+    lines.emplace_back("keys: WASD QE move, right mouse look, V view, G GI, H HUD, F12 shot");
+    return lines;
+  }
+
+  void writeCaptures(int frame, const ScriptFrame* scripted, const Image8& shown) {
+    fs::create_directories(o_.out);
+    if (scripted)
+      for (const std::string& name : scripted->captures) {
+        writePng(o_.out / (name + ".png"), shown);
+        std::printf("view: frame %d captured to %s\n", frame, (o_.out / (name + ".png")).c_str());
+      }
+    for (; screenshots_ > 0; --screenshots_) {
+      char name[48];
+      std::snprintf(name, sizeof name, "screenshot-%04d.png", frame);
+      writePng(o_.out / name, shown);
+      std::printf("view: screenshot %s\n", (o_.out / name).c_str());
+    }
+  }
+
+  const ViewOptions& o_;
+  std::vector<ScriptFrame> script_;
+  // Destroyed in reverse: the world (its GPU buffers) before the device it runs on.
+  std::unique_ptr<Window> window_;
+  std::unique_ptr<SwapchainPresenter> presenter_;
+  std::unique_ptr<gpu::Context> ownContext_;
+  std::unique_ptr<StreamedGi> world_;
+  std::unique_ptr<FlyCamera> camera_;
+  bool software_ = false;
+  double renderScale_ = 1.0;
+  ViewMode mode_ = ViewMode::Final;
+  bool indirect_ = true, hud_ = true, paused_ = false;
+  int screenshots_ = 0;
+  double simSeconds_ = 0.0, frameMilliseconds_ = 0.0;
+  int framesShown_ = 0;
+  StreamFrameStats stream_;
+  GiFrameStats gi_;
+};
+
+}  // namespace
+
+int runView(const ViewOptions& options) {
+  const std::uint64_t before = gpu::Context::processValidationMessageCount();
+  int code = 0;
+  {
+    ViewSession session(options);
+    code = session.run();
+  }  // torn down first: leaks are reported at destruction
+  const char* env = std::getenv("SDFSTREAM_VALIDATION");
+  if (options.device.validation || (env && std::string(env) == "1")) {
+    const std::uint64_t messages = gpu::Context::processValidationMessageCount() - before;
+    std::printf("view: %llu validation messages\n", (unsigned long long)messages);
+    if (messages > 0) code = 1;
+  }
+  return code;
+}
+
+}  // namespace sdfstream::viewer
