@@ -1,5 +1,6 @@
 #include "demo/streamed_gi.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -93,6 +94,26 @@ void StreamedGi::turnSuns(double degrees) {
 
 StreamFrameStats StreamedGi::stream(const Camera& camera) {
   return stack_.update(camera.position, glm::normalize(camera.target - camera.position));
+}
+
+StreamFrameStats StreamedGi::stream(const glm::dvec3& centre, const glm::dvec3& viewDirection) {
+  return stack_.update(centre, viewDirection);
+}
+
+StreamFrameStats StreamedGi::settle(const glm::dvec3& centre, const glm::dvec3& viewDirection) {
+  // Each step uploads at most the per-frame budget, so settling takes several; a stack whose
+  // missing pages stop going down with the loader idle (pages it can never hold) stops too.
+  constexpr int kStepsWithoutProgress = 8;
+  StreamFrameStats s;
+  std::uint32_t fewest = UINT32_MAX;
+  for (int stalled = 0; stalled < kStepsWithoutProgress;) {
+    s = stack_.update(centre, viewDirection);
+    if (s.missingPages <= s.atlasFullPages + s.failedPages) break;
+    stalled = s.missingPages < fewest ? 0 : stalled + 1;
+    fewest = std::min(fewest, s.missingPages);
+    loader_.waitIdle();
+  }
+  return s;
 }
 
 // Syncs the atlas slots the stack rewrote, relights, updates the probes.

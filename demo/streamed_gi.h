@@ -69,6 +69,14 @@ class StreamedGi {
 
   // Moves the stack's windows to the camera and takes what the loader finished; never waits.
   StreamFrameStats stream(const Camera& camera);
+  // The same with the windows centred on `centre` (a still view from outside the world centres
+  // them on what it looks at); viewDirection as CascadeStack::update.
+  StreamFrameStats stream(const glm::dvec3& centre, const glm::dvec3& viewDirection);
+  // Streams around `centre` until every page the windows need is resident or can never be
+  // (atlas full, failed tiles), waiting for the loader: for still views and scripted captures,
+  // whose pictures must not depend on how fast the disk was. No GI frames meanwhile. Returns the
+  // last frame's stats.
+  StreamFrameStats settle(const glm::dvec3& centre, const glm::dvec3& viewDirection);
   // One GI frame on the stack as it stands (relight, probes); empty stats without a device.
   GiFrameStats giUpdate(const Camera& camera);
   // The camera's view of the stack: direct + indirect light (CPU reference: direct only).

@@ -1,5 +1,6 @@
 #include "gi/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -41,6 +42,30 @@ Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3&
   double distance = radius / std::sin(glm::radians(fovYDegrees) * 0.5) * 1.05;
   c.position = c.target + glm::normalize(from) * distance;
   c.fovYDegrees = fovYDegrees;
+  return c;
+}
+
+Camera frameBoxTightly(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& from,
+                       double fovYDegrees, double aspect) {
+  Camera c;
+  c.target = 0.5 * (lo + hi);
+  c.fovYDegrees = fovYDegrees;
+  // The camera's axes as primaryRaysFrom builds them (world up, looking at the target).
+  const glm::dvec3 back = glm::normalize(from);
+  const glm::dvec3 right = glm::normalize(glm::cross(c.up, back));
+  const glm::dvec3 up = glm::cross(back, right);
+  const double tanY = std::tan(glm::radians(fovYDegrees) * 0.5), tanX = tanY * aspect;
+  // A corner at (x, y) across the view and z towards the camera is in view from distance D
+  // when |x| <= (D - z) tanX and |y| <= (D - z) tanY.
+  double distance = 0.0;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 corner(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    const glm::dvec3 d = corner - c.target;
+    const double z = glm::dot(d, back);
+    distance = std::max(
+        {distance, z + std::abs(glm::dot(d, right)) / tanX, z + std::abs(glm::dot(d, up)) / tanY});
+  }
+  c.position = c.target + back * distance * 1.02;
   return c;
 }
 

@@ -28,6 +28,11 @@ std::string formatCamera(const Camera& camera);
 // far enough that the bounding sphere fills the view.
 Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& from,
                    double fovYDegrees = 50.0);
+// The same, as close as the box [lo, hi] allows: looking at its centre from the direction
+// `from`, near enough that its eight corners just fit a picture of `aspect` (width / height),
+// so the box fills the view rather than its bounding sphere.
+Camera frameBoxTightly(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& from,
+                       double fovYDegrees, double aspect);
 
 // One ray per pixel centre, row-major from the top-left pixel, in the cascade's voxel units.
 std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, int height,

@@ -1,39 +1,43 @@
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "core/error.h"
-#include "demo/pack_lights.h"
-#include "demo/view_renderer.h"
+#include "demo/still_view.h"
 #include "gpu/context.h"
 #include "tools/args.h"
 #include "tools/commands.h"
 #include "tools/render_args.h"
-#include "world/world_io.h"
 
 namespace fs = std::filesystem;
 
 namespace sdfstream::cli {
 
 int runRender(int argc, char** argv) {
-  Args args(
-      argc, argv, 2,
-      renderValueOptions({"-o", "--camera", "--width", "--height", "--device", "--max-steps"}),
-      {"--help", "-h", "--cpu", "--validation", "--layers"});
+  Args args(argc, argv, 2,
+            renderValueOptions({"-o", "--camera", "--width", "--height", "--device", "--max-steps",
+                                "--cascades", "--atlas-mib"}),
+            {"--help", "-h", "--cpu", "--validation", "--layers"});
   if (args.has("--help") || args.has("-h")) {
     std::printf(
         "usage: sdfstream render WORLD -o IMAGE.png [options]\n"
         "\n"
-        "Loads WORLD into a 128^3 cascade centred on the camera target, converges the GI probes\n"
-        "on it (camera fixed), traces one primary ray per pixel on the GPU and writes the view\n"
-        "shaded with direct + indirect light: emission + albedo/pi (E_direct + E_indirect),\n"
-        "exposure, ACES filmic tone map, sRGB. Misses show the sky.\n"
+        "Streams WORLD into the whole cascade stack, as the fly-through does: the cascades are\n"
+        "centred on the camera when it is inside the world, else on its target, so any world\n"
+        "can be framed. Converges the GI probes (camera fixed), traces one primary ray per pixel\n"
+        "on the GPU and writes the view shaded with direct + indirect light: emission +\n"
+        "albedo/pi (E_direct + E_indirect), exposure, ACES filmic tone map, sRGB. Misses show\n"
+        "the sky.\n"
         "\n"
         "  --camera px,py,pz,tx,ty,tz[,fov]  position, target (metres) and vertical fov "
         "(degrees);\n"
-        "                                    default: frames the whole world\n"
-        "  --width W --height H              image size (default 640 x 480)\n"
+        "                                    default: the whole world from above, across\n"
+        "                                    its longer side, as close as it fits\n"
+        "  --width W --height H              image size (default 640 x 360)\n"
         "  --layers                          also write IMAGE-direct.png and IMAGE-indirect.png\n"
         "                                    (direct light only; indirect light only)\n"
+        "  --cascades N                      cascades (default 8, at most the pack's LOD count)\n"
+        "  --atlas-mib N                     shared brick atlas budget (default 96)\n"
         "%s%s"
         "  --device NAME                     GPU index or part of its name (or SDFSTREAM_DEVICE)\n"
         "  --cpu                             trace with the CPU reference instead of Vulkan\n"
@@ -46,26 +50,33 @@ int runRender(int argc, char** argv) {
   if (args.positional().size() != 1 || !args.value("-o"))
     throw InputError(InputErrorKind::Usage, "command line",
                      "expected: sdfstream render WORLD -o IMAGE.png (see --help)");
-  RenderOptions options = renderOptionsFromArgs(args, args.has("--cpu"), 24);
-  World world = readWorld(args.positional()[0]);
-  usePackLights(options, args.positional()[0]);
-  Camera camera = defaultCamera(world);
+  StreamedGiOptions world;
+  world.world = args.positional()[0];
+  world.cascades = args.integer("--cascades", 8, 1, 8);
+  world.atlasMiB = args.number("--atlas-mib", world.atlasMiB);
+  // Probe rays as the streamed commands choose them by device (a full update of every cascade
+  // is ~2.5 M rays, 45 s a frame on lavapipe); every page is lit before the view, as it is still.
+  world.render = renderOptionsFromArgs(args, args.has("--cpu"), 24, kProbeBudgetOfDevice);
+  world.render.renderer.shading.trace.maxSteps =
+      std::uint32_t(args.integer("--max-steps", 256, 1, 100000));
+  std::optional<Camera> camera;
   if (auto text = args.value("--camera")) {
-    auto parsed = parseCamera(*text);
-    if (!parsed)
+    camera = parseCamera(*text);
+    if (!camera)
       throw InputError(
           InputErrorKind::Usage, "command line",
           "--camera expects px,py,pz,tx,ty,tz[,fov] with distinct points, got '" + *text + "'");
-    camera = *parsed;
   }
-  int width = args.integer("--width", 640, 1, 8192);
-  int height = args.integer("--height", 480, 1, 8192);
-  TraceSettings settings;
-  settings.maxSteps = std::uint32_t(args.integer("--max-steps", 256, 1, 100000));
+  const int width = args.integer("--width", 640, 1, 8192);  // 16:9, as most engines' views
+  const int height = args.integer("--height", 360, 1, 8192);
 
   std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
-  ViewRenderer renderer(world, context.get(), options, settings);
-  ViewResult r = renderer.render(camera, width, height);
+  StreamedGi streamed(world, context.get());
+  const RenderOptions& options = streamed.render();
+  if (!camera)
+    camera = defaultStillCamera(streamed.store().manifest().boundsMin,
+                                streamed.store().manifest().boundsMax, double(width) / height);
+  const ViewResult r = renderStill(streamed, *camera, width, height, options.giFrames);
   const fs::path out = *args.value("-o");
   writePng(out, r.image);
   if (args.has("--layers")) {
@@ -79,7 +90,7 @@ int runRender(int argc, char** argv) {
       "rendered %s (%dx%d) on %s: camera %s, %u bricks resident, %zu/%zu rays hit, "
       "shade %.2f ms (%.2f MRays/s)",
       out.c_str(), width, height, context ? context->deviceName().c_str() : "CPU reference",
-      formatCamera(camera).c_str(), r.residentBricks, r.hits, r.rays, r.shadeMilliseconds,
+      formatCamera(*camera).c_str(), r.residentBricks, r.hits, r.rays, r.shadeMilliseconds,
       r.rays / (r.shadeMilliseconds * 1e3));
   if (options.gi)
     std::printf(

@@ -29,9 +29,6 @@ constexpr double kScriptFrameSeconds = 1.0 / 30.0;  // scripted and headless fra
 constexpr double kSunStepDegrees = 5.0;
 constexpr float kSunIntensityStep = 1.25f;
 constexpr double kSoftwareRenderScale = 0.25;
-// Settling streams with the loader drained between steps; a pack whose pages can never all be
-// resident (atlas full, failed tiles) stops after this many steps.
-constexpr int kMaxSettleSteps = 256;
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -121,7 +118,8 @@ class ViewSession {
       last = now;
       camera_->update(input, dt);
       const Camera cam = camera_->camera();
-      if (scripted && scripted->settle) settle(cam);
+      if (scripted && scripted->settle)
+        world_->settle(cam.position, glm::normalize(cam.target - cam.position));
       stream_ = world_->stream(cam);
       if (!paused_) simSeconds_ += dt;
       if (DemoObjects* objects = world_->objects()) objects->apply(simSeconds_);
@@ -167,16 +165,6 @@ class ViewSession {
                                  float(pressed(Action::SunBrighter) - pressed(Action::SunDimmer)));
     if (azimuth != 0.0 || elevation != 0.0 || scale != 1.0f)
       adjustSun(world_->render().lights, azimuth, elevation, scale);
-  }
-
-  // Streams until every page the camera needs is resident (or can never be), with no GI frames
-  // meanwhile, so a scripted capture does not depend on how fast the disk was.
-  void settle(const Camera& cam) {
-    for (int step = 0; step < kMaxSettleSteps; ++step) {
-      const StreamFrameStats s = world_->stream(cam);
-      if (s.missingPages <= s.atlasFullPages + s.failedPages) return;
-      world_->loader().waitIdle();
-    }
   }
 
   Image8 render(int frame, const Camera& cam, glm::ivec2 size) {
