@@ -12,6 +12,7 @@
 #include "demo/fly_path.h"
 #include "demo/frame_image.h"
 #include "demo/moving_objects.h"
+#include "demo/still_view.h"
 #include "viewer/fly_camera.h"
 #include "viewer/swapchain_presenter.h"
 #include "viewer/view_picture.h"
@@ -81,7 +82,13 @@ class ViewSession {
     const FlyPath path = defaultFlyPath(manifest.boundsMin, manifest.boundsMax);
     const double diagonal = glm::length(manifest.boundsMax - manifest.boundsMin);
     const double speed = o.speed > 0.0 ? o.speed : std::max(0.5, diagonal / 30.0);
-    camera_ = std::make_unique<FlyCamera>(o.camera ? *o.camera : pathCamera(path, 0.0), speed);
+    // The start is render's default view: the whole world in the picture, from above.
+    boundsMin_ = manifest.boundsMin;
+    boundsMax_ = manifest.boundsMax;
+    camera_ = std::make_unique<FlyCamera>(
+        o.camera ? *o.camera
+                 : defaultStillCamera(boundsMin_, boundsMax_, double(o.width) / o.height),
+        speed);
     if (o.objects > 0) {
       PackGround ground(world_->store(), manifest.boundsMin.y, manifest.boundsMax.y);
       FlyObjectsSettings os;
@@ -119,8 +126,8 @@ class ViewSession {
       camera_->update(input, dt);
       const Camera cam = camera_->camera();
       if (scripted && scripted->settle)
-        world_->settle(cam.position, glm::normalize(cam.target - cam.position));
-      stream_ = world_->stream(cam);
+        world_->settle(streamCentre(cam), glm::normalize(cam.target - cam.position));
+      stream_ = world_->stream(streamCentre(cam), glm::normalize(cam.target - cam.position));
       if (!paused_) simSeconds_ += dt;
       if (DemoObjects* objects = world_->objects()) objects->apply(simSeconds_);
 
@@ -145,13 +152,34 @@ class ViewSession {
         fs::create_directories(*o_.record);
         writePng(*o_.record / name, picture);
       }
-      ++framesShown_;
+      if (++framesShown_ == 1) {
+        firstShown_ = Clock::now();
+      } else {
+        const GiFrameTimes& t = world_->renderer()->lastTimes();
+        const double ms[5] = {gi_.lightMilliseconds, gi_.probeMilliseconds, gi_.objectMilliseconds,
+                              t.shadeMilliseconds, t.sampleMilliseconds};
+        for (int i = 0; i < 5; ++i) gpuSums_[i] += ms[i];
+      }
     }
-    std::printf("view: %d frames shown%s\n", framesShown_, world_->degradedNote().c_str());
+    // After the first frame, which uploads the stack and builds the passes.
+    const double wall = framesShown_ > 1 ? seconds(Clock::now() - firstShown_) : 0.0;
+    const int timed = std::max(1, framesShown_ - 1);
+    std::printf(
+        "view: %d frames shown, %.1f fps after the first (GPU ms a frame: light %.3f, "
+        "probes %.3f, objects %.3f, shade %.3f, sample %.3f)%s\n",
+        framesShown_, wall > 0.0 ? double(framesShown_ - 1) / wall : 0.0, gpuSums_[0] / timed,
+        gpuSums_[1] / timed, gpuSums_[2] / timed, gpuSums_[3] / timed, gpuSums_[4] / timed,
+        world_->degradedNote().c_str());
     return 0;
   }
 
  private:
+  // The cascades follow the camera inside the world; outside it they stay on the world's point
+  // nearest the camera, so a view of the world from afar still sees it through the stack.
+  glm::dvec3 streamCentre(const Camera& cam) const {
+    return glm::clamp(cam.position, boundsMin_, boundsMax_);
+  }
+
   void applyPresses(const FrameInput& input) {
     auto pressed = [&](Action a) { return input.presses[int(a)]; };
     if (pressed(Action::Pause) % 2) paused_ = !paused_;
@@ -245,6 +273,7 @@ class ViewSession {
   std::unique_ptr<gpu::Context> ownContext_;
   std::unique_ptr<StreamedGi> world_;
   std::unique_ptr<FlyCamera> camera_;
+  glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
   bool software_ = false;
   double renderScale_ = 1.0;
   ViewMode mode_ = ViewMode::Final;
@@ -252,6 +281,8 @@ class ViewSession {
   int screenshots_ = 0;
   double simSeconds_ = 0.0, frameMilliseconds_ = 0.0;
   int framesShown_ = 0;
+  Clock::time_point firstShown_;
+  double gpuSums_[5] = {};  // light, probes, objects, shade, sample: GPU ms after the first frame
   StreamFrameStats stream_;
   GiFrameStats gi_;
 };

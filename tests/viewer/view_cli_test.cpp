@@ -85,7 +85,7 @@ TEST(ViewCli, WindowCaptureEqualsTheHeadlessRender) {
       test::runCli(inXvfb(), "view" + common + " -o " + (dir / "window").string());
   ASSERT_EQ(window.exitCode, 0) << window.out << window.err;
   EXPECT_NE(window.out.find("view: 0 validation messages"), std::string::npos) << window.out;
-  EXPECT_NE(window.out.find("view: 7 frames shown"), std::string::npos) << window.out;
+  EXPECT_NE(window.out.find("view: 7 frames shown, "), std::string::npos) << window.out;
   const test::CliResult headless =
       test::runCli(std::string(SDFSTREAM_CLI),
                    "view" + common + " --headless -o " + (dir / "headless").string());
@@ -129,7 +129,7 @@ TEST(ViewCli, EscapeClosesTheWindowCleanly) {
       test::runCli(inXvfb(), "view " + world.string() + " --script " + script.string() +
                                  " --width 96 --height 64 -o " + (dir / "out").string());
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("view: 2 frames shown"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("view: 2 frames shown, "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("view: 0 validation messages"), std::string::npos) << r.out;
   EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
 }
