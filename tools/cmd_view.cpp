@@ -36,7 +36,7 @@ int runView(int argc, char** argv) {
         "                     e.g. 'camera 0,2,8,0,1,0', 'hold W 30', 'press V', 'capture a')\n"
         "  --frames N         stop after N frames (default: when closed or the script ends)\n"
         "  --record DIR       write every presented frame to DIR/frame-NNNN.png\n"
-        "  --camera px,py,pz,tx,ty,tz[,fov]   start there (default: the start of fly's route)\n"
+        "  --camera px,py,pz,tx,ty,tz[,fov]   start there (default: render's default view)\n"
         "  --speed M/S        camera speed (default: the world's diagonal in 30 s)\n"
         "  --width W --height H   window size (default 1280 x 720)\n"
         "  --scale S          render resolution as a fraction of the window's (default 1 on a\n"

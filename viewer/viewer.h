@@ -19,7 +19,7 @@ struct ViewOptions {
   std::filesystem::path out = "out/view";  // screenshots (F12) and script captures
   std::optional<std::filesystem::path> script;  // --script: scripted input (view_script.h)
   std::optional<std::filesystem::path> record;  // --record DIR: every presented frame as PNG
-  std::optional<Camera> camera;    // start; none: the start of the world's default fly path
+  std::optional<Camera> camera;    // start; none: render's default view (the whole world)
   double speed = 0.0;              // m/s; 0: the world's diagonal in 30 s
   int width = 1280, height = 720;  // window (or, headless, picture) size
   // Render resolution as a fraction of the window's; 0: automatic (1 on a GPU, 1/4 on a CPU
