@@ -1,5 +1,5 @@
 # The installable part of sdfstream: the libraries an engine links (core, shaders, gpu, world,
-# objects, cards, streaming, gi), their headers, and a CMake package so that
+# raster, objects, cards, streaming, gi), their headers, and a CMake package so that
 #   find_package(sdfstream CONFIG REQUIRED)
 #   target_link_libraries(engine PRIVATE sdfstream::gi)
 # works from an install prefix. Headers are included as "module/file.h" in both trees: from the
@@ -9,7 +9,7 @@ include(CMakePackageConfigHelpers)
 
 set(SDFSTREAM_INSTALL_INCLUDE_DIR "${CMAKE_INSTALL_INCLUDEDIR}/sdfstream")
 set(SDFSTREAM_INSTALL_CMAKE_DIR "${CMAKE_INSTALL_LIBDIR}/cmake/sdfstream")
-set(sdfstream_library_modules core shaders gpu world objects cards streaming gi)
+set(sdfstream_library_modules core shaders gpu world raster objects cards streaming gi)
 
 foreach(module IN LISTS sdfstream_library_modules)
   set(target sdfstream_${module})
@@ -22,7 +22,8 @@ foreach(module IN LISTS sdfstream_library_modules)
           FILES_MATCHING PATTERN "*.h")
 endforeach()
 
-install(TARGETS sdfstream_core sdfstream_shaders sdfstream_gpu sdfstream_world sdfstream_objects
+install(TARGETS sdfstream_core sdfstream_shaders sdfstream_gpu sdfstream_world sdfstream_raster
+                sdfstream_objects
                 sdfstream_cards sdfstream_streaming sdfstream_gi
         EXPORT sdfstreamTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -93,17 +93,18 @@ gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& setting
   return pc;
 }
 
-std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stack,
-                                                   std::span<const gpu_shared::TraceRay> rays,
-                                                   std::span<const gpu_shared::GpuLight> lights,
-                                                   const gpu_shared::GpuSky& sky,
-                                                   const ShadingSettings& settings,
-                                                   std::span<const std::uint32_t> lightRadiance) {
+std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(
+    const CascadeStackImage& stack, std::span<const gpu_shared::TraceRay> rays,
+    std::span<const gpu_shared::GpuLight> lights, const gpu_shared::GpuSky& sky,
+    const ShadingSettings& settings, std::span<const std::uint32_t> lightRadiance,
+    std::span<const gpu_shared::PrimarySurface> surfaces) {
   assert(settings.direct != gpu_shared::kShadeDirectCache ||
          lightRadiance.size() >= stack.albedoAtlas->size());
-  const gpu_shared::ShadePushConstants pc =
+  assert(surfaces.empty() || surfaces.size() == rays.size());
+  gpu_shared::ShadePushConstants pc =
       shadePushConstants(settings, rays.size(), lights.size(), std::uint32_t(stack.params.size()),
                          sky, stack.voxelSize0);
+  if (!surfaces.empty()) pc.options.z = gpu_shared::kShadePrimaryGiven;
   shade_detail::PrimaryShader shader{stack.pageTables.data(),   stack.distanceAtlas->data(),
                                      stack.albedoAtlas->data(), stack.emissionAtlas->data(),
                                      stack.params.data(),       lights.data(),
@@ -112,7 +113,8 @@ std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stac
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
     auto local = shader;
     for (std::size_t i = range.begin(); i < range.end(); ++i)
-      out[i] = local.shadePrimary(rays[i], pc);
+      out[i] = surfaces.empty() ? local.shadePrimary(rays[i], pc)
+                                : local.shadeGivenSurface(rays[i], surfaces[i], pc);
   });
   return out;
 }
@@ -121,20 +123,23 @@ PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
     : context_(context),
       pipeline_(
           context, gpu::ShaderId::shade_primary,
-          gpu::PipelineDesc{17, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
+          gpu::PipelineDesc{18, sizeof(gpu_shared::ShadePushConstants), glm::uvec3(64, 1, 1)}),
       rays_(context, gpu::StagedBuffer::ToDevice),
       shaded_(context, gpu::StagedBuffer::ToHost),
+      surfaces_(context, gpu::StagedBuffer::ToDevice),
       lights_(context, gpu_shared::kMaxLights * sizeof(gpu_shared::GpuLight),
               gpu::BufferKind::Upload),
       noRadiance_(context, 4, gpu::BufferKind::DeviceLocal),
+      noSurfaces_(context, sizeof(gpu_shared::PrimarySurface), gpu::BufferKind::DeviceLocal),
       noObjects_(context) {}
 
 std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
     const GpuStackScene& scene, const gpu::Buffer* lightRadiance,
     std::span<const gpu_shared::TraceRay> rays, std::span<const gpu_shared::GpuLight> lights,
     const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0,
-    const ObjectScene* objects) {
+    const ObjectScene* objects, std::span<const gpu_shared::PrimarySurface> surfaces) {
   assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
+  assert(surfaces.empty() || surfaces.size() == rays.size());
   milliseconds_ = 0.0;
   if (rays.empty()) return {};
   const std::size_t rayBytes = rays.size() * sizeof(gpu_shared::TraceRay);
@@ -143,11 +148,17 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
   rays_.reserve(rayBytes);
   shaded_.reserve(outBytes);
   std::memcpy(rays_.host(), rays.data(), rayBytes);
+  const std::size_t surfaceBytes = surfaces.size() * sizeof(gpu_shared::PrimarySurface);
+  if (surfaceBytes) {
+    surfaces_.reserve(surfaceBytes);
+    std::memcpy(surfaces_.host(), surfaces.data(), surfaceBytes);
+  }
   if (!lights.empty())
     std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
   gpu_shared::ShadePushConstants pc = shadePushConstants(settings, rays.size(), lights.size(),
                                                          scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
+  if (surfaceBytes) pc.options.z = gpu_shared::kShadePrimaryGiven;
   std::vector<const gpu::Buffer*> bindings = {
       &rays_.device(),   &shaded_.device(), &scene.pageTables(),
       &scene.distance(), &scene.albedo(),   &scene.emission(),
@@ -155,8 +166,10 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
   for (const gpu::Buffer* o :
        objects && objects->active() ? objects->buffers() : noObjects_.buffers())
     bindings.push_back(o);
+  bindings.push_back(surfaceBytes ? &surfaces_.device() : &noSurfaces_);
   gpu::CommandBatch batch = context_.beginBatch();
   rays_.recordCopy(batch, rayBytes);
+  if (surfaceBytes) surfaces_.recordCopy(batch, surfaceBytes);
   batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
                  shade_detail::spread(pc.counts.x));
   shaded_.recordCopy(batch, outBytes);
@@ -313,6 +326,10 @@ const ObjectScene* GiRenderer::objectScene() const {
   return gi_ ? &gi_->objects() : objects_.get();
 }
 
+void GiRenderer::setPrimaryMesh(const TriangleScene* scene) {
+  raster_ = scene ? std::make_unique<MeshViewRaster>(context_, *scene) : nullptr;
+}
+
 void GiRenderer::setObjects(const ObjectLibrary* library, InstanceSet* instances) {
   objectLibrary_ = library;
   instances_ = library ? instances : nullptr;
@@ -396,8 +413,18 @@ ShadedView GiRenderer::shade(const Camera& camera, int width, int height,
   v.width = width;
   v.height = height;
   v.rays = cameraRays(camera, width, height, image);
-  v.shaded = shade_.run(scene(), lightRadiance(), v.rays, toGpu(lights.lights, image),
-                        toGpu(lights.sky), options_.shading, image.voxelSize0, objectScene());
+  std::vector<gpu_shared::PrimarySurface> surfaces;
+  times_.rasterMilliseconds = 0.0;
+  if (raster_) {
+    const VisibilityImage visible =
+        raster_->render(viewRasterPush(camera, width, height), width, height);
+    times_.rasterMilliseconds = raster_->lastMilliseconds();
+    surfaces = resolvePrimarySurfaces(raster_->scene(), visible, camera.position,
+                                      image.cascade0MinWorld, image.voxelSize0);
+  }
+  v.shaded =
+      shade_.run(scene(), lightRadiance(), v.rays, toGpu(lights.lights, image), toGpu(lights.sky),
+                 options_.shading, image.voxelSize0, objectScene(), surfaces);
   times_.shadeMilliseconds = shade_.lastMilliseconds();
   v.queries = probeQueries(v.shaded, v.rays, v.pixels);
   return v;

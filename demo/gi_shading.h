@@ -33,6 +33,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
 #include "gpu/staged_buffer.h"
+#include "raster/mesh_view_raster.h"
 #include "shaders/shared/shade_layout.h"
 #include "streaming/cascade.h"
 #include "streaming/cascade_stack.h"
@@ -56,13 +57,14 @@ gpu_shared::ShadePushConstants shadePushConstants(const ShadingSettings& setting
 // CPU reference of shade_primary.comp (same GLSL compiled as C++, TBB over rays). Rays in
 // cascade-0 voxels of `stack`; lights from toGpu(lights, stack). `lightRadiance` (one RGB9E5 per
 // atlas material voxel, LightCacheCpu::radiance()) is read only with kShadeDirectCache and may be
-// empty otherwise. No moving objects: it equals the GPU pass run without any.
-std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(const CascadeStackImage& stack,
-                                                   std::span<const gpu_shared::TraceRay> rays,
-                                                   std::span<const gpu_shared::GpuLight> lights,
-                                                   const gpu_shared::GpuSky& sky,
-                                                   const ShadingSettings& settings,
-                                                   std::span<const std::uint32_t> lightRadiance);
+// empty otherwise. `surfaces`: empty (trace every ray), or one given primary surface per ray
+// (kShadePrimaryGiven, raster/mesh_view_raster.h). No moving objects: it equals the GPU pass run
+// without any.
+std::vector<gpu_shared::ShadedHit> shadePrimaryCpu(
+    const CascadeStackImage& stack, std::span<const gpu_shared::TraceRay> rays,
+    std::span<const gpu_shared::GpuLight> lights, const gpu_shared::GpuSky& sky,
+    const ShadingSettings& settings, std::span<const std::uint32_t> lightRadiance,
+    std::span<const gpu_shared::PrimarySurface> surfaces = {});
 
 // The GPU shading pass. Owns its ray/result/light buffers (grown on demand).
 class PrimaryShadePass {
@@ -71,21 +73,23 @@ class PrimaryShadePass {
   // Traces and shades `rays` against `scene` (synced to the stack the rays refer to); blocking.
   // lightRadiance: the light cache atlas (read with kShadeDirectCache), or nullptr. objects: the
   // moving objects, updated for the same stack this frame (ObjectScene::update), or nullptr;
-  // an inactive scene counts as none.
+  // an inactive scene counts as none. surfaces: empty (trace every ray) or one given primary
+  // surface per ray (kShadePrimaryGiven).
   std::vector<gpu_shared::ShadedHit> run(const GpuStackScene& scene,
                                          const gpu::Buffer* lightRadiance,
                                          std::span<const gpu_shared::TraceRay> rays,
                                          std::span<const gpu_shared::GpuLight> lights,
                                          const gpu_shared::GpuSky& sky,
                                          const ShadingSettings& settings, double voxelSize0,
-                                         const ObjectScene* objects = nullptr);
+                                         const ObjectScene* objects = nullptr,
+                                         std::span<const gpu_shared::PrimarySurface> surfaces = {});
   double lastMilliseconds() const { return milliseconds_; }
 
  private:
   gpu::Context& context_;
   gpu::ComputePipeline pipeline_;
-  gpu::StagedBuffer rays_, shaded_;  // device-local for the pass (gpu/staged_buffer.h)
-  gpu::Buffer lights_, noRadiance_;
+  gpu::StagedBuffer rays_, shaded_, surfaces_;  // device-local for the pass (staged_buffer.h)
+  gpu::Buffer lights_, noRadiance_, noSurfaces_;
   NoObjectsBindings noObjects_;  // bound at 9-16 when there are no objects
   double milliseconds_ = 0.0;
 };
@@ -137,6 +141,7 @@ struct GiFrameTimes {
   GiFrameStats gi;  // light cache, probe and object passes (GI off: light cache and objects only)
   std::vector<gpu::PassTiming> probePasses;  // the last update's probe passes, one by one
   double shadeMilliseconds = 0.0;            // shade_primary pass (trace + direct light)
+  double rasterMilliseconds = 0.0;           // the raster primary's draw (0: SDF primary)
   double sampleMilliseconds = 0.0;           // probe_sample pass (irradiance queries)
 };
 
@@ -166,6 +171,14 @@ class GiRenderer {
   // (shadePrimaryCpu, --cpu) has no objects.
   void setObjects(const ObjectLibrary* library, InstanceSet* instances);
   bool hasObjects() const { return objectLibrary_ != nullptr; }
+
+  // The primary surfaces from now on: rasterized from `scene`'s triangles (a visibility buffer,
+  // raster/mesh_view_raster.h), whose detail the picture then shows, lit as the SDF's hits are
+  // (direct light through the SDF shadows, indirect light from the probes); or, nullptr (the
+  // default), traced through the SDF. The scene must be in the pack's world frame and outlive
+  // its use. Throws as MeshViewRaster does.
+  void setPrimaryMesh(const TriangleScene* scene);
+  bool rastersPrimary() const { return raster_ != nullptr; }
 
   // One frame: sync the stack (whole image / streamed dirty slots), relight, update probes.
   GiFrameStats update(const CascadeStackImage& image, const SceneLights& lights,
@@ -217,6 +230,7 @@ class GiRenderer {
   InstanceSet* instances_ = nullptr;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   PrimaryShadePass shade_;
+  std::unique_ptr<MeshViewRaster> raster_;  // --primary raster
   GiFrameTimes times_;
 };
 

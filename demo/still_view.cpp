@@ -65,6 +65,7 @@ ViewResult renderStill(StreamedGi& world, const Camera& camera, int width, int h
       r.framesToConverge = framesToConverge(r.convergence);
     }
     r.shadeMilliseconds = gpu->lastTimes().shadeMilliseconds;
+    r.rasterMilliseconds = gpu->lastTimes().rasterMilliseconds;
     world.withinDeviceMemory(frame, [&] { r.frame = gpu->finish(view); });
     r.sampleMilliseconds = gpu->lastTimes().sampleMilliseconds;
   }

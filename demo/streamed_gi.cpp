@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "core/error.h"
 #include "core/stopwatch.h"
@@ -129,6 +130,12 @@ GiFrameStats StreamedGi::giUpdate(const Camera& camera) {
   inputs.cameraWorld = camera.position;
   inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
   return renderer_->update(stack_, dirty, render_.lights, inputs, giFrame_++);
+}
+
+void StreamedGi::setPrimaryMesh(std::unique_ptr<TriangleScene> scene) {
+  if (!renderer_) throw std::runtime_error("the raster primary needs a Vulkan device");
+  renderer_->setPrimaryMesh(scene.get());
+  primaryMesh_ = std::move(scene);
 }
 
 HdrFrame StreamedGi::renderFrame(const Camera& camera, int width, int height,

@@ -62,6 +62,11 @@ class StreamedGi {
   // within its page budget).
   void turnSuns(double degrees);
 
+  // Primary surfaces rasterized from `scene`'s triangles (GiRenderer::setPrimaryMesh; in the
+  // pack's world frame), or traced through the SDF (nullptr, the default). Vulkan only.
+  void setPrimaryMesh(std::unique_ptr<TriangleScene> scene);
+  const TriangleScene* primaryMesh() const { return primaryMesh_.get(); }
+
   // Moving objects from the next GI update on (Vulkan only; nullptr: none).
   void setObjects(std::unique_ptr<DemoObjects> objects);
   DemoObjects* objects() { return objects_.get(); }
@@ -117,6 +122,7 @@ class StreamedGi {
   RenderOptions render_;
   TileLoader loader_;
   CascadeStack stack_;
+  std::unique_ptr<TriangleScene> primaryMesh_;  // declared first: outlives renderer_'s raster
   std::unique_ptr<GiRenderer> renderer_;
   std::unique_ptr<DemoObjects> objects_;
   std::uint64_t giFrame_ = 0;

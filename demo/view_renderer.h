@@ -32,6 +32,7 @@ struct ViewResult {
   std::size_t objectHits = 0;             // pixels showing a moving object
   std::size_t nonFinite = 0;              // pixels with NaN/Inf radiance (written black)
   double shadeMilliseconds = 0.0;         // trace + direct light pass (GPU time, or CPU wall time)
+  double rasterMilliseconds = 0.0;        // the raster primary's draw (GPU time; 0: SDF primary)
   double sampleMilliseconds = 0.0;        // probe_sample for every hit pixel
   double lightMilliseconds = 0.0;         // light cache passes over this view's GI frames
   std::vector<double> probeMilliseconds;  // probe update GPU time of each GI frame of this view

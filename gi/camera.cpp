@@ -74,13 +74,25 @@ std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, i
   return primaryRaysFrom(camera, width, height, cascade.toCascade(camera.position));
 }
 
+namespace {
+// The camera's frame as the primary rays use it: forward, right and up, orthonormal.
+struct CameraFrame {
+  glm::dvec3 forward, right, up;
+};
+CameraFrame cameraFrame(const Camera& camera) {
+  CameraFrame f;
+  f.forward = glm::normalize(camera.target - camera.position);
+  const glm::dvec3 upHint =
+      std::abs(glm::dot(f.forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
+  f.right = glm::normalize(glm::cross(f.forward, upHint));
+  f.up = glm::cross(f.right, f.forward);
+  return f;
+}
+}  // namespace
+
 std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
                                                   const glm::vec3& origin) {
-  glm::dvec3 forward = glm::normalize(camera.target - camera.position);
-  glm::dvec3 upHint =
-      std::abs(glm::dot(forward, camera.up)) > 0.999 ? glm::dvec3(0, 0, 1) : camera.up;
-  glm::dvec3 right = glm::normalize(glm::cross(forward, upHint));
-  glm::dvec3 up = glm::cross(right, forward);
+  const auto [forward, right, up] = cameraFrame(camera);
   double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);
   double aspect = double(width) / double(height);
   std::vector<gpu_shared::TraceRay> rays(std::size_t(width) * height);
@@ -95,6 +107,25 @@ std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int widt
       r.dirTMax = glm::vec4(dir, 1e30f);
     }
   return rays;
+}
+
+gpu_shared::ViewRasterPush viewRasterPush(const Camera& camera, int width, int height) {
+  // Ray (x, y) points along forward + u·right + v·up with u = ndcX·tanHalf·aspect and
+  // v = -ndcY·tanHalf (Vulkan's y points down): so ndcX = x_view / (z_view·tanHalf·aspect),
+  // ndcY = -y_view / (z_view·tanHalf), and depth = near / z_view (reverse-Z, infinite far).
+  constexpr double kNear = 1e-3;
+  const CameraFrame f = cameraFrame(camera);
+  const double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);
+  const double aspect = double(width) / double(height);
+  auto row = [&](const glm::dvec3& axis, double scale) {
+    return glm::vec4(glm::vec3(axis * scale), float(-glm::dot(axis, camera.position) * scale));
+  };
+  gpu_shared::ViewRasterPush push{};
+  push.clipFromWorld[0] = row(f.right, 1.0 / (tanHalf * aspect));
+  push.clipFromWorld[1] = row(f.up, -1.0 / tanHalf);
+  push.clipFromWorld[2] = glm::vec4(0.0f, 0.0f, 0.0f, float(kNear));
+  push.clipFromWorld[3] = row(f.forward, 1.0);
+  return push;
 }
 
 }  // namespace sdfstream

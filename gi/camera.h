@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include "shaders/shared/sdf_layout.h"
+#include "shaders/shared/view_raster_layout.h"
 #include "streaming/cascade.h"
 
 namespace sdfstream {
@@ -41,5 +42,10 @@ std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, i
 // parallel to the world's with uniform scale, e.g. CascadeStackImage::toStack).
 std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
                                                   const glm::vec3& originInRayFrame);
+
+// Clip from world for the rasterized view of the same pixels (shared/view_raster_layout.h:
+// Vulkan clip space, reverse-Z, infinite far plane, near plane 1 mm): pixel (x, y)'s centre sees
+// along primaryRaysFrom's ray (x, y).
+gpu_shared::ViewRasterPush viewRasterPush(const Camera& camera, int width, int height);
 
 }  // namespace sdfstream

@@ -1,8 +1,9 @@
 #version 450
-// Card capture, vertex stage (cards/visibility_raster.h): vertex pulling from storage buffers,
-// three vertices per triangle of a non-indexed draw, so the triangle index and the corner's
-// barycentric coordinates come from gl_VertexIndex alone (no vertex input state, and no
-// gl_PrimitiveID in the fragment stage, which would need the geometry-shader feature).
+// Card capture, vertex stage (cards/card_rasterizer.h, raster/visibility_raster.h): vertex
+// pulling from storage buffers, three vertices per triangle of a non-indexed draw, so the
+// triangle index and the corner's barycentric coordinates come from gl_VertexIndex alone (no
+// vertex input state, and no gl_PrimitiveID in the fragment stage, which would need the
+// geometry-shader feature).
 #extension GL_GOOGLE_include_directive : require
 #include "shaders/shared/card_layout.h"
 

@@ -3,7 +3,8 @@
 // with the CPU reference): one invocation per camera ray, spread over rows of 64 x 16384 threads.
 // Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 distance atlas, 4 albedo atlas,
 // 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance,
-// 9-16 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none).
+// 9-16 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none),
+// 17 given primary surfaces (read with options.z == kShadePrimaryGiven, one per ray).
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -22,6 +23,7 @@ layout(std430, binding = 5) readonly buffer EmissionAtlas { uint emissionAtlas[]
 layout(std430, binding = 6) readonly buffer Cascades { CascadeTraceParams cascades[]; };
 layout(std430, binding = 7) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 8) readonly buffer LightRadiance { uint lightRadiance[]; };
+layout(std430, binding = 17) readonly buffer Surfaces { PrimarySurface surfaces[]; };
 
 layout(push_constant) uniform Push { ShadePushConstants pc; };
 
@@ -42,5 +44,6 @@ layout(push_constant) uniform Push { ShadePushConstants pc; };
 void main() {
   uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
   if (id >= pc.counts.x) return;
-  shaded[id] = shadePrimary(rays[id], pc);
+  shaded[id] = pc.options.z == kShadePrimaryGiven ? shadeGivenSurface(rays[id], surfaces[id], pc)
+                                                  : shadePrimary(rays[id], pc);
 }

@@ -57,16 +57,14 @@ ObjectHit shadeTraceObjects(vec3 o, vec3 d, float tMin, float tMax, ShadePushCon
 
 // lightIrradiance (light_math.glsl: cosine, 1/d², range window, spot cone) at hit point p0 of
 // cascade hitCascade, times the visibility of the shadow ray above.
-vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePushConstants pc) {
+// The same with the shadow ray's start given (origin, stack space).
+vec3 shadeLightIrradianceFrom(GpuLight l, vec3 p0, vec3 n, vec3 origin, uint hitCascade,
+                              ShadePushConstants pc) {
   GpuLight unshadowed = l;
   unshadowed.shape.w = 0.0f;
   vec3 e = lightIrradiance(unshadowed, p0, n, pc.params.x, 0u, pc.params.z, pc.counts.z);
   if (!(max(e.x, max(e.y, e.z)) > 0.0f) || l.shape.w <= 0.5f || hitCascade >= pc.counts.z)
     return e;
-  CascadeTraceParams cp = SDF_CASCADE(hitCascade);
-  SdfSample inside = sdfSampleCascade((p0 - vec3(cp.offsetScale)) / cp.offsetScale.w, cp.toroidal);
-  float depth = inside.resident ? max(-inside.distance, 0.0f) : 0.0f;
-  SDF_PRECISE vec3 origin = p0 + n * ((0.5f + depth) * cp.offsetScale.w);
   LightShadowRay ray = lightShadowRay(l, origin);
   if (ray.tMax <= 0.0f) return vec3(0.0f);
   float visibility = shadeSoftShadowStack(origin, ray.dir, ray.tMax, pc.options.y, pc.params.z,
@@ -77,6 +75,18 @@ vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePus
     visibility = 0.0f;
 #endif
   return e * visibility;
+}
+
+vec3 shadeLightIrradiance(GpuLight l, vec3 p0, vec3 n, uint hitCascade, ShadePushConstants pc) {
+  SDF_PRECISE vec3 origin = p0;
+  if (hitCascade < pc.counts.z) {
+    CascadeTraceParams cp = SDF_CASCADE(hitCascade);
+    SdfSample inside =
+        sdfSampleCascade((p0 - vec3(cp.offsetScale)) / cp.offsetScale.w, cp.toroidal);
+    float depth = inside.resident ? max(-inside.distance, 0.0f) : 0.0f;
+    origin = p0 + n * ((0.5f + depth) * cp.offsetScale.w);
+  }
+  return shadeLightIrradianceFrom(l, p0, n, origin, hitCascade, pc);
 }
 
 #ifdef OBJ_FRAME
@@ -171,5 +181,77 @@ ShadedHit shadePrimary(TraceRay ray, ShadePushConstants pc) {
     radiance = unpackRgb9e5(h.emission) + albedo * irradiance * kLightInvPi;
   }
   h.direct = vec4(radiance, 0.0f);
+  return h;
+}
+
+// The finest cascade whose window holds point p0 (stack space) with its page streamed in, or
+// cascadeCount when none does: where a given surface's shadow ray starts its walk, as a traced
+// hit's starts in the cascade that found it.
+uint shadeSurfaceCascade(vec3 p0, uint cascadeCount) {
+  for (uint c = 0u; c < cascadeCount; ++c) {
+    CascadeTraceParams cp = SDF_CASCADE(c);
+    SDF_PRECISE vec3 q = (p0 - vec3(cp.offsetScale)) / cp.offsetScale.w;
+    if (!sdfInsideWindow(q)) continue;
+    if (!sdfSampleCascade(q, cp.toroidal).missing) return c;
+  }
+  return cascadeCount;
+}
+
+// Where a given surface's shadow rays start: half a voxel of its cascade along n, then further
+// out while the SDF there still reads inside or within a quarter voxel of its surface. A mesh
+// point does not lie on the SDF's zero set: an open sheet's SDF is a shell about a voxel thick
+// around it, and coarse cascades are min-filtered, so their surface stands proud of the mesh; a
+// walk started inside would read the surface it leaves as its occluder. At most four voxels out
+// (a thin gap under a nearby surface stays shadowed, as the traced hit's would).
+vec3 shadeSurfaceShadowOrigin(vec3 p0, vec3 n, uint cascade, uint cascadeCount) {
+  if (cascade >= cascadeCount) return p0;
+  CascadeTraceParams cp = SDF_CASCADE(cascade);
+  float s = 0.5f;
+  for (uint i = 0u; i < 8u; ++i) {
+    SDF_PRECISE vec3 q = (p0 + n * (s * cp.offsetScale.w) - vec3(cp.offsetScale)) / cp.offsetScale.w;
+    SdfSample at = sdfSampleCascade(q, cp.toroidal);
+    if (!at.resident || at.distance >= 0.25f || s >= 4.0f) break;
+    s = min(s + max(0.25f - at.distance, 0.25f), 4.0f);
+  }
+  return p0 + n * (s * cp.offsetScale.w);
+}
+
+// A pixel whose primary surface is given (kShadePrimaryGiven: a rasterized triangle, its normal
+// and material) rather than traced: the same direct light as a traced hit (shadeLightIrradiance:
+// the SDF shadow walk from the surface's cascade, pushed out of the SDF's surface where the mesh
+// lies inside it), and moving objects in front of it win as they do over a static hit. Nothing
+// rasterized: the sky, as a traced miss.
+ShadedHit shadeGivenSurface(TraceRay ray, PrimarySurface surface, ShadePushConstants pc) {
+  vec3 origin = vec3(ray.originTMin);
+  vec3 dir = vec3(ray.dirTMax);
+  bool hit = surface.position.w > 0.5f;
+#ifdef OBJ_FRAME
+  ObjectHit oh = shadeTraceObjects(origin, dir, ray.originTMin.w,
+                                   hit ? surface.normalT.w : ray.dirTMax.w, pc);
+  if (oh.t >= 0.0f) return shadeObjectHit(origin, dir, oh, 0u, pc);
+#endif
+  ShadedHit h;
+  h.steps = 0u;
+  if (!hit) {
+    h.flags = 0u;
+    h.normalT = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    h.direct = vec4(skyRadiance(pc.sky, dir), 0.0f);
+    h.albedo = 0u;
+    h.emission = 0u;
+    return h;
+  }
+  SDF_PRECISE vec3 p0 = vec3(surface.position);
+  vec3 n = vec3(surface.normalT);
+  uint cascade = shadeSurfaceCascade(p0, pc.counts.z);
+  h.flags = kHitFlagHit | ((cascade < pc.counts.z ? cascade : 0u) << kHitCascadeShift);
+  h.normalT = surface.normalT;
+  h.albedo = surface.albedo;
+  h.emission = surface.emission;
+  SDF_PRECISE vec3 shadowOrigin = shadeSurfaceShadowOrigin(p0, n, cascade, pc.counts.z);
+  vec3 irradiance = vec3(0.0f);
+  for (uint i = 0u; i < pc.counts.y; ++i)
+    irradiance += shadeLightIrradianceFrom(LIGHT_AT(i), p0, n, shadowOrigin, cascade, pc);
+  vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(h.albedo)));
+  h.direct = vec4(unpackRgb9e5(h.emission) + albedo * irradiance * kLightInvPi, 0.0f);
   return h;
 }

@@ -16,7 +16,7 @@ namespace sdfstream::cli {
 int runRender(int argc, char** argv) {
   Args args(argc, argv, 2,
             renderValueOptions({"-o", "--camera", "--width", "--height", "--device", "--max-steps",
-                                "--cascades", "--atlas-mib"}),
+                                "--cascades", "--atlas-mib", "--mesh", "--primary"}),
             {"--help", "-h", "--cpu", "--validation", "--layers"});
   if (args.has("--help") || args.has("-h")) {
     std::printf(
@@ -38,13 +38,13 @@ int runRender(int argc, char** argv) {
         "                                    (direct light only; indirect light only)\n"
         "  --cascades N                      cascades (default 8, at most the pack's LOD count)\n"
         "  --atlas-mib N                     shared brick atlas budget (default 96)\n"
-        "%s%s"
+        "%s%s%s"
         "  --device NAME                     GPU index or part of its name (or SDFSTREAM_DEVICE)\n"
         "  --cpu                             trace with the CPU reference instead of Vulkan\n"
         "                                    (direct light only)\n"
         "  --max-steps N                     sphere-tracing iteration cap (default 256)\n"
         "  --validation                      enable the Khronos validation layer\n",
-        kStillGiFramesHelp, kRenderHelp);
+        kPrimaryHelp, kStillGiFramesHelp, kRenderHelp);
     return 0;
   }
   if (args.positional().size() != 1 || !args.value("-o"))
@@ -70,8 +70,10 @@ int runRender(int argc, char** argv) {
   const int width = args.integer("--width", 640, 1, 8192);  // 16:9, as most engines' views
   const int height = args.integer("--height", 360, 1, 8192);
 
+  std::unique_ptr<TriangleScene> mesh = primaryMeshFromArgs(args, args.has("--cpu"));
   std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
   StreamedGi streamed(world, context.get());
+  if (mesh) streamed.setPrimaryMesh(std::move(mesh));
   const RenderOptions& options = streamed.render();
   if (!camera)
     camera = defaultStillCamera(streamed.store().manifest().boundsMin,
@@ -92,6 +94,9 @@ int runRender(int argc, char** argv) {
       out.c_str(), width, height, context ? context->deviceName().c_str() : "CPU reference",
       formatCamera(*camera).c_str(), r.residentBricks, r.hits, r.rays, r.shadeMilliseconds,
       r.rays / (r.shadeMilliseconds * 1e3));
+  if (streamed.primaryMesh())
+    std::printf(", raster primary %.2f ms (%zu triangles)", r.rasterMilliseconds,
+                streamed.primaryMesh()->triangles.size());
   if (options.gi)
     std::printf(
         ", GI %zu frames (converged after %d): probes %.1f ms/frame, light cache %.1f ms, "

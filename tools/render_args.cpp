@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "world/import.h"
 
 namespace sdfstream::cli {
 namespace {
@@ -133,6 +134,25 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
   o.lights = defaultSceneLights(sunDir, sunE, zenith, horizon);
   o.packLights = !args.has("--sun");
   return o;
+}
+
+const char* const kPrimaryHelp =
+    "  --mesh SCENE                      glTF/GLB/OBJ/layout JSON in the pack's world frame\n"
+    "                                    (usually what it was imported from): its triangles are\n"
+    "                                    rasterized as the primary surfaces, lit by the same\n"
+    "                                    direct light and probes\n"
+    "  --primary raster|sdf              primary surfaces (default: raster with --mesh, else\n"
+    "                                    the SDF's, traced)\n";
+
+std::unique_ptr<TriangleScene> primaryMeshFromArgs(const Args& args, bool cpu) {
+  const auto mesh = args.value("--mesh");
+  const std::string primary = args.value("--primary").value_or(mesh ? "raster" : "sdf");
+  if (primary != "raster" && primary != "sdf")
+    throw usage("--primary expects raster or sdf, got '" + primary + "'");
+  if (primary == "sdf") return nullptr;
+  if (!mesh) throw usage("--primary raster needs --mesh SCENE (the triangles to rasterize)");
+  if (cpu) throw usage("--primary raster needs Vulkan (drop --cpu, or use --primary sdf)");
+  return std::make_unique<TriangleScene>(loadTriangles(*mesh));
 }
 
 }  // namespace sdfstream::cli

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <set>
 #include <string>
 
 #include "demo/render_options.h"
 #include "tools/args.h"
+#include "world/triangle_scene.h"
 
 namespace sdfstream::cli {
 
@@ -25,5 +27,12 @@ extern const char* const kStillGiFramesHelp;
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
                                     std::uint32_t defaultProbeBudget = 1u << 21,
                                     std::uint32_t defaultRelightBudget = kRelightEveryPage);
+
+// --mesh FILE and --primary raster|sdf (render, view; add both to the command's value options):
+// the mesh scene whose triangles are rasterized as the primary surfaces, or nullptr for the
+// SDF's. --mesh alone means raster; --primary raster without --mesh, or with --cpu, is a usage
+// error. Throws InputError naming the file when it cannot be loaded.
+extern const char* const kPrimaryHelp;
+std::unique_ptr<TriangleScene> primaryMeshFromArgs(const Args& args, bool cpu);
 
 }  // namespace sdfstream::cli

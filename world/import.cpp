@@ -14,18 +14,34 @@
 
 namespace sdfstream {
 
-World importScene(const std::filesystem::path& input, const ImportOptions& options) {
+namespace {
+std::string lowerExtension(const std::filesystem::path& input) {
   std::string ext = input.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+bool isMeshScene(const std::string& ext) {
+  return ext == ".gltf" || ext == ".glb" || ext == ".obj" || ext == ".json";
+}
+}  // namespace
+
+TriangleScene loadTriangles(const std::filesystem::path& input) {
+  const std::string ext = lowerExtension(input);
+  if (!isMeshScene(ext))
+    throw InputError(InputErrorKind::Usage, input.string(),
+                     "unsupported mesh scene type '" + ext +
+                         "' (expected .gltf, .glb, .obj or .json scene layout)");
+  return ext == ".json" ? loadLayout(input) : ext == ".obj" ? loadObj(input) : loadGltf(input);
+}
+
+World importScene(const std::filesystem::path& input, const ImportOptions& options) {
+  const std::string ext = lowerExtension(input);
   World world;
   if (ext == ".vdb") {
     world = vdbToWorld(input, options.voxelSize, options.limits);
-  } else if (ext == ".gltf" || ext == ".glb" || ext == ".obj" || ext == ".json") {
-    TriangleScene scene = ext == ".json"  ? loadLayout(input)
-                          : ext == ".obj" ? loadObj(input)
-                                          : loadGltf(input);
-    world = meshToWorld(scene, options.voxelSize, options.limits);
+  } else if (isMeshScene(ext)) {
+    world = meshToWorld(loadTriangles(input), options.voxelSize, options.limits);
   } else {
     throw InputError(InputErrorKind::Usage, input.string(),
                      "unsupported input type '" + ext +

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "world/import_limits.h"
+#include "world/triangle_scene.h"
 #include "world/world.h"
 
 namespace sdfstream {
@@ -14,6 +15,10 @@ struct ImportOptions {
   int lodCount = 4;  // importToDirectory only (pack_import.h)
   int tileVoxels = 128;
 };
+
+// A mesh scene's triangles by extension (case-insensitive): .gltf/.glb → loadGltf, .obj →
+// loadObj, .json → loadLayout; anything else → InputError(Usage).
+TriangleScene loadTriangles(const std::filesystem::path& input);
 
 // Dispatches on the extension (case-insensitive): .gltf/.glb → loadGltf, .obj → loadObj,
 // .json → loadLayout, then meshToWorld; .vdb → vdbToWorld. Unknown extension → InputError(Usage).

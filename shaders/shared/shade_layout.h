@@ -26,11 +26,17 @@ SDF_CONST uint kShadeDirectCache = 1u;  // the static light cache's RGB9E5 value
 // and the cascade bits 0.
 SDF_CONST uint kShadeFlagObject = 0x10000u;
 
+// Where a pixel's primary surface comes from (ShadePushConstants.options.z).
+SDF_CONST uint kShadePrimaryTrace = 0u;  // the camera ray traced through the cascade stack
+SDF_CONST uint kShadePrimaryGiven = 1u;  // PrimarySurface i, rasterized from the scene's
+                                         // triangles (raster/mesh_view_raster.h); the ray still
+                                         // searches the moving objects in front of it
+
 struct ShadePushConstants {
   uvec4 counts;   // x: rays; y: lights (<= kMaxLights); z: cascades; w: trace max steps (0..15)
   vec4 params;    // x: cascade-0 voxel size (m); y: trace hit epsilon (voxels);
                   // z: shadow hit epsilon (voxels); w unused                        (16..31)
-  uvec4 options;  // x: kShadeDirect*; y: shadow max steps; zw unused                (32..47)
+  uvec4 options;  // x: kShadeDirect*; y: shadow max steps; z: kShadePrimary*; w unused (32..47)
   GpuSky sky;     // seen by rays that miss                                          (48..79)
   // Stack-space AABB of every moving object's bounds (ObjectInstanceGpu boundsMin/Max), padded;
   // min > max when there are none. Rays, primary or shadow, search the objects only over their
@@ -51,6 +57,19 @@ struct ShadedHit {
   uint flags;     // kHitFlag* bits, the hit cascade (sdf_layout.h), kShadeFlagObject (44..47)
 };
 
+// A pixel's primary surface given rather than traced (kShadePrimaryGiven): the nearest triangle
+// at the pixel, resolved from the visibility buffer with the scene's own materials.
+struct PrimarySurface {
+  vec4 position;  // xyz: the surface point, stack space (cascade-0 voxels); w: 1, or 0 for
+                  // nothing (the sky)                                               (0..15)
+  vec4 normalT;   // xyz: unit geometric normal, facing the camera; w: distance from the
+                  // camera, cascade-0 voxels                                        (16..31)
+  uint albedo;    // RGBA8 sRGB-encoded base colour (color_codec.h)                 (32..35)
+  uint emission;  // RGB9E5 linear emission                                         (36..39)
+  uint pad0;
+  uint pad1;
+};
+
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
@@ -63,6 +82,8 @@ static_assert(offsetof(sdfstream::gpu_shared::ShadePushConstants, objectsMax) ==
 static_assert(sizeof(sdfstream::gpu_shared::ShadedHit) == 48);
 static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, albedo) == 32);
 static_assert(offsetof(sdfstream::gpu_shared::ShadedHit, flags) == 44);
+static_assert(sizeof(sdfstream::gpu_shared::PrimarySurface) == 48);
+static_assert(offsetof(sdfstream::gpu_shared::PrimarySurface, albedo) == 32);
 #endif
 
 #endif

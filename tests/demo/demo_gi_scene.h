@@ -16,15 +16,16 @@ namespace sdfstream::test {
 
 // The sun comes from +x and slightly from +z, so the pillar's shadow falls towards -x and the
 // red wall's inner face (+x) is lit.
-inline World demoGiWorld() {
+inline TriangleScene demoGiTriangles() {
   const auto dir = scratchDir("demo-gi");
   std::ofstream(dir / "layout.json") << R"({"boxes": [
     {"min": [-2.0, -0.2, -2.0], "max": [2.0, 0.0, 2.0], "albedo": [0.8, 0.8, 0.8]},
     {"min": [-2.0, 0.0, -2.0], "max": [-1.8, 2.0, 2.0], "albedo": [0.85, 0.08, 0.06]},
     {"min": [0.8, 0.0, -0.25], "max": [1.2, 1.4, 0.25], "albedo": [0.8, 0.8, 0.8]}]})";
-  const TriangleScene scene = loadLayout(dir / "layout.json");
-  return meshToWorld(scene, 0.0, ImportLimits{});
+  return loadLayout(dir / "layout.json");
 }
+
+inline World demoGiWorld() { return meshToWorld(demoGiTriangles(), 0.0, ImportLimits{}); }
 
 inline const glm::vec3 kDemoGiSunTravel(-0.5f, -1.0f, -0.1f);
 
