@@ -226,7 +226,10 @@ std::vector<gpu_shared::ProbeQuery> probeQueries(std::span<const gpu_shared::Sha
     const gpu_shared::ShadedHit& h = shaded[i];
     if (!(h.flags & gpu_shared::kHitFlagHit)) continue;
     const glm::vec3 dir(rays[i].dirTMax);
-    const glm::vec3 hit = glm::vec3(rays[i].originTMin) + dir * h.normalT.w;
+    // A given (rasterized) surface's query starts where its shadow rays do, outside the SDF's
+    // surface (ShadedHit::direct.w; 0 for traced hits).
+    const glm::vec3 hit = glm::vec3(rays[i].originTMin) + dir * h.normalT.w +
+                          glm::vec3(h.normalT) * h.direct.w;
     gpu_shared::ProbeQuery q{};
     q.position = glm::vec4(hit, 0.0f);  // w = 0: blend across all cascades
     q.normal = glm::vec4(glm::vec3(h.normalT), 0.0f);
@@ -419,8 +422,10 @@ ShadedView GiRenderer::shade(const Camera& camera, int width, int height,
     const VisibilityImage visible =
         raster_->render(viewRasterPush(camera, width, height), width, height);
     times_.rasterMilliseconds = raster_->lastMilliseconds();
-    surfaces = resolvePrimarySurfaces(raster_->scene(), visible, camera.position,
-                                      image.cascade0MinWorld, image.voxelSize0);
+    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
+    surfaces =
+        resolvePrimarySurfaces(raster_->scene(), raster_->pyramid(), visible, camera.position,
+                               pixelAngle, image.cascade0MinWorld, image.voxelSize0);
   }
   v.shaded =
       shade_.run(scene(), lightRadiance(), v.rays, toGpu(lights.lights, image), toGpu(lights.sky),

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <stdexcept>
 
 #include "core/error.h"
 #include "core/stopwatch.h"
 #include "demo/pack_lights.h"
+#include "world/import.h"
 
 namespace sdfstream {
 namespace {
@@ -68,9 +68,16 @@ StreamedGi::StreamedGi(const StreamedGiOptions& o, gpu::Context* context)
       stack_(store_, loader_, streamingOptions(o, context)) {
   if (const char* v = std::getenv("SDFSTREAM_INJECT_DEVICE_OOM_FRAME"); v && *v)
     injectOutOfMemoryFrame_ = std::atoi(v);
+  if (!o.primaryMesh.empty() && !context_)
+    throw InputError(InputErrorKind::Usage, o.primaryMesh.string(),
+                     "the raster primary needs a Vulkan device");
   if (!context_) return;
   renderer_ = std::make_unique<GiRenderer>(*context_, render_.renderer,
                                            std::uint32_t(stack_.cascadeCount()));
+  if (!o.primaryMesh.empty()) {
+    primaryMesh_ = std::make_unique<TriangleScene>(loadTriangles(o.primaryMesh));
+    renderer_->setPrimaryMesh(primaryMesh_.get());
+  }
   reserveAtlas();
 }
 
@@ -130,12 +137,6 @@ GiFrameStats StreamedGi::giUpdate(const Camera& camera) {
   inputs.cameraWorld = camera.position;
   inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
   return renderer_->update(stack_, dirty, render_.lights, inputs, giFrame_++);
-}
-
-void StreamedGi::setPrimaryMesh(std::unique_ptr<TriangleScene> scene) {
-  if (!renderer_) throw std::runtime_error("the raster primary needs a Vulkan device");
-  renderer_->setPrimaryMesh(scene.get());
-  primaryMesh_ = std::move(scene);
 }
 
 HdrFrame StreamedGi::renderFrame(const Camera& camera, int width, int height,

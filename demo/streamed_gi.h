@@ -34,6 +34,10 @@ struct StreamedGiOptions {
   // The GI settings (kProbeBudgetOfDevice / kRelightBudgetOfDevice resolved by device) and the
   // lights: a pack with lights of its own replaces them unless render.packLights is false.
   RenderOptions render;
+  // A mesh scene (glTF/GLB/OBJ/layout JSON, loadTriangles) in the pack's world frame whose
+  // triangles are rasterized as the primary surfaces (GiRenderer::setPrimaryMesh); empty: the
+  // SDF's, traced. Vulkan only.
+  std::filesystem::path primaryMesh;
 };
 
 class StreamedGi {
@@ -62,9 +66,7 @@ class StreamedGi {
   // within its page budget).
   void turnSuns(double degrees);
 
-  // Primary surfaces rasterized from `scene`'s triangles (GiRenderer::setPrimaryMesh; in the
-  // pack's world frame), or traced through the SDF (nullptr, the default). Vulkan only.
-  void setPrimaryMesh(std::unique_ptr<TriangleScene> scene);
+  // The rasterized primary's triangles (StreamedGiOptions::primaryMesh), or nullptr.
   const TriangleScene* primaryMesh() const { return primaryMesh_.get(); }
 
   // Moving objects from the next GI update on (Vulkan only; nullptr: none).

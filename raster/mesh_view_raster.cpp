@@ -1,5 +1,7 @@
 #include "raster/mesh_view_raster.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -41,6 +43,7 @@ gpu::Buffer uploadIndices(gpu::Context& ctx, const TriangleScene& scene) {
 MeshViewRaster::MeshViewRaster(gpu::Context& ctx, const TriangleScene& scene)
     : ctx_(&ctx),
       scene_(&scene),
+      pyramid_(buildTexturePyramid(scene)),
       raster_(ctx,
               VisibilityStages{gpu::ShaderId::view_visibility_vs, gpu::ShaderId::view_visibility_fs,
                                sizeof(gpu_shared::ViewRasterPush), true, "raster primary"}),
@@ -74,11 +77,9 @@ VisibilityImage MeshViewRaster::render(const gpu_shared::ViewRasterPush& view, i
   return out;
 }
 
-std::vector<gpu_shared::PrimarySurface> resolvePrimarySurfaces(const TriangleScene& scene,
-                                                               const VisibilityImage& image,
-                                                               const glm::dvec3& eye,
-                                                               const glm::dvec3& stackOrigin,
-                                                               double voxelSize) {
+std::vector<gpu_shared::PrimarySurface> resolvePrimarySurfaces(
+    const TriangleScene& scene, const TexturePyramid& pyramid, const VisibilityImage& image,
+    const glm::dvec3& eye, double pixelAngle, const glm::dvec3& stackOrigin, double voxelSize) {
   std::vector<gpu_shared::PrimarySurface> out(image.triangle.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size(), 1024), [&](auto range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -97,11 +98,17 @@ std::vector<gpu_shared::PrimarySurface> resolvePrimarySurfaces(const TriangleSce
       // Both sides of a triangle are surfaces (the SDF's rule for open sheets): the side facing
       // the camera is the one lit. A degenerate triangle faces the camera.
       n = area > 0.0 ? n / area : glm::normalize(toEye);
+      const double distance = glm::length(toEye);
       if (glm::dot(n, toEye) < 0.0) n = -n;
+      // The pixel's footprint: distance × angle across the view, stretched by 1/cos along the
+      // slope; the geometric mean of the two axes, 1/sqrt(cos), keeps grazing floors from
+      // blurring to their mean colour (a trilinear sampler without anisotropy).
+      const double cosine = std::max(glm::dot(n, toEye) / std::max(distance, 1e-12), 0.05);
+      const float footprint = float(distance * pixelAngle / std::sqrt(cosine));
       s.position = glm::vec4(glm::vec3((p - stackOrigin) / voxelSize), 1.0f);
-      s.normalT = glm::vec4(glm::vec3(n), float(glm::length(toEye) / voxelSize));
-      s.albedo = packAlbedo(sampleAlbedo(scene, tri, image.bary[i]));
-      s.emission = packRgb9e5(sampleEmission(scene, tri, image.bary[i]));
+      s.normalT = glm::vec4(glm::vec3(n), float(distance / voxelSize));
+      s.albedo = packAlbedo(sampleAlbedo(scene, pyramid, tri, image.bary[i], footprint));
+      s.emission = packRgb9e5(sampleEmission(scene, pyramid, tri, image.bary[i], footprint));
     }
   });
   return out;

@@ -43,10 +43,13 @@ class MeshViewRaster {
   // GPU time of the last render's draw and copies (0 without timestamps).
   double lastMilliseconds() const { return lastMilliseconds_; }
   const TriangleScene& scene() const { return *scene_; }
+  // The scene's textures' mip chains (built once, on construction), for resolvePrimarySurfaces.
+  const TexturePyramid& pyramid() const { return pyramid_; }
 
  private:
   gpu::Context* ctx_;
   const TriangleScene* scene_;
+  TexturePyramid pyramid_;
   VisibilityRaster raster_;
   gpu::Buffer positions_, indices_, readback_;
   double lastMilliseconds_ = 0.0;
@@ -55,12 +58,12 @@ class MeshViewRaster {
 // The primary surface of every pixel of `image`: the point on its triangle (interpolated in
 // double precision), the triangle's geometric normal turned towards `eye`, and the material's
 // base colour and emission at the point (sampleAlbedo / sampleEmission, the path tracer's own
-// lookups). Positions and distances are converted to the stack frame: (world - stackOrigin) /
-// voxelSize. Pixels that see nothing get position.w = 0.
-std::vector<gpu_shared::PrimarySurface> resolvePrimarySurfaces(const TriangleScene& scene,
-                                                               const VisibilityImage& image,
-                                                               const glm::dvec3& eye,
-                                                               const glm::dvec3& stackOrigin,
-                                                               double voxelSize);
+// lookups), filtered over the pixel's footprint on the surface (`pixelAngle` radians a pixel,
+// widened as the surface turns away from the eye) with the scene's mip chains. Positions and
+// distances are converted to the stack frame: (world - stackOrigin) / voxelSize. Pixels that
+// see nothing get position.w = 0.
+std::vector<gpu_shared::PrimarySurface> resolvePrimarySurfaces(
+    const TriangleScene& scene, const TexturePyramid& pyramid, const VisibilityImage& image,
+    const glm::dvec3& eye, double pixelAngle, const glm::dvec3& stackOrigin, double voxelSize);
 
 }  // namespace sdfstream

@@ -197,29 +197,34 @@ uint shadeSurfaceCascade(vec3 p0, uint cascadeCount) {
   return cascadeCount;
 }
 
-// Where a given surface's shadow rays start: half a voxel of its cascade along n, then further
-// out while the SDF there still reads inside or within a quarter voxel of its surface. A mesh
-// point does not lie on the SDF's zero set: an open sheet's SDF is a shell about a voxel thick
-// around it, and coarse cascades are min-filtered, so their surface stands proud of the mesh; a
-// walk started inside would read the surface it leaves as its occluder. At most four voxels out
-// (a thin gap under a nearby surface stays shadowed, as the traced hit's would).
-vec3 shadeSurfaceShadowOrigin(vec3 p0, vec3 n, uint cascade, uint cascadeCount) {
-  if (cascade >= cascadeCount) return p0;
+// Where a given surface's shadow rays and probe query start: half a voxel of its cascade along
+// n, then further out while the SDF there still reads inside or within a quarter voxel of its
+// surface. A mesh point does not lie on the SDF's zero set: an open sheet's SDF is a shell about
+// a voxel thick around it, coarse cascades are min-filtered so their surface stands proud of the
+// mesh, and in a concave corner the mesh point lies inside the other wall's shell. A shadow walk
+// started inside would read the surface it leaves as its occluder, and a probe query there sees
+// the probes behind the wall (bright lines along every inner edge). Returns the offset along n
+// (cascade-0 voxels), negative when the point is still inside four voxels out (a crevice: no
+// direct light from shadowed lights, as a traced hit there would not exist).
+float shadeSurfaceOffset(vec3 p0, vec3 n, uint cascade, uint cascadeCount) {
+  if (cascade >= cascadeCount) return 0.0f;
   CascadeTraceParams cp = SDF_CASCADE(cascade);
   float s = 0.5f;
   for (uint i = 0u; i < 8u; ++i) {
-    SDF_PRECISE vec3 q = (p0 + n * (s * cp.offsetScale.w) - vec3(cp.offsetScale)) / cp.offsetScale.w;
+    SDF_PRECISE vec3 q =
+        (p0 + n * (s * cp.offsetScale.w) - vec3(cp.offsetScale)) / cp.offsetScale.w;
     SdfSample at = sdfSampleCascade(q, cp.toroidal);
-    if (!at.resident || at.distance >= 0.25f || s >= 4.0f) break;
+    if (!at.resident || at.distance >= 0.25f) return s * cp.offsetScale.w;
+    if (s >= 4.0f) break;
     s = min(s + max(0.25f - at.distance, 0.25f), 4.0f);
   }
-  return p0 + n * (s * cp.offsetScale.w);
+  return -s * cp.offsetScale.w;
 }
 
 // A pixel whose primary surface is given (kShadePrimaryGiven: a rasterized triangle, its normal
 // and material) rather than traced: the same direct light as a traced hit (shadeLightIrradiance:
-// the SDF shadow walk from the surface's cascade, pushed out of the SDF's surface where the mesh
-// lies inside it), and moving objects in front of it win as they do over a static hit. Nothing
+// the SDF shadow walk from the surface's cascade, started outside the SDF's surface:
+// shadeSurfaceOffset), and moving objects in front of it win as they do over a static hit. Nothing
 // rasterized: the sky, as a traced miss.
 ShadedHit shadeGivenSurface(TraceRay ray, PrimarySurface surface, ShadePushConstants pc) {
   vec3 origin = vec3(ray.originTMin);
@@ -247,11 +252,15 @@ ShadedHit shadeGivenSurface(TraceRay ray, PrimarySurface surface, ShadePushConst
   h.normalT = surface.normalT;
   h.albedo = surface.albedo;
   h.emission = surface.emission;
-  SDF_PRECISE vec3 shadowOrigin = shadeSurfaceShadowOrigin(p0, n, cascade, pc.counts.z);
+  float offset = shadeSurfaceOffset(p0, n, cascade, pc.counts.z);
+  SDF_PRECISE vec3 shadowOrigin = p0 + n * abs(offset);
   vec3 irradiance = vec3(0.0f);
-  for (uint i = 0u; i < pc.counts.y; ++i)
-    irradiance += shadeLightIrradianceFrom(LIGHT_AT(i), p0, n, shadowOrigin, cascade, pc);
+  for (uint i = 0u; i < pc.counts.y; ++i) {
+    GpuLight l = LIGHT_AT(i);
+    if (offset < 0.0f && l.shape.w > 0.5f) continue;  // shadowed: the point is in a crevice
+    irradiance += shadeLightIrradianceFrom(l, p0, n, shadowOrigin, cascade, pc);
+  }
   vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(h.albedo)));
-  h.direct = vec4(unpackRgb9e5(h.emission) + albedo * irradiance * kLightInvPi, 0.0f);
+  h.direct = vec4(unpackRgb9e5(h.emission) + albedo * irradiance * kLightInvPi, abs(offset));
   return h;
 }

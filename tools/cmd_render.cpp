@@ -70,10 +70,9 @@ int runRender(int argc, char** argv) {
   const int width = args.integer("--width", 640, 1, 8192);  // 16:9, as most engines' views
   const int height = args.integer("--height", 360, 1, 8192);
 
-  std::unique_ptr<TriangleScene> mesh = primaryMeshFromArgs(args, args.has("--cpu"));
+  world.primaryMesh = primaryMeshFromArgs(args, args.has("--cpu"));
   std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
   StreamedGi streamed(world, context.get());
-  if (mesh) streamed.setPrimaryMesh(std::move(mesh));
   const RenderOptions& options = streamed.render();
   if (!camera)
     camera = defaultStillCamera(streamed.store().manifest().boundsMin,

@@ -16,7 +16,8 @@ int runView(int argc, char** argv) {
   Args args(argc, argv, 2,
             renderValueOptions({"-o", "--script", "--record", "--camera", "--speed", "--width",
                                 "--height", "--scale", "--frames", "--cascades", "--atlas-mib",
-                                "--upload-mib", "--loader-threads", "--objects", "--device"}),
+                                "--upload-mib", "--loader-threads", "--objects", "--device",
+                                "--mesh", "--primary"}),
             {"--help", "-h", "--headless", "--no-hud", "--no-vsync"});
   if (args.has("--help") || args.has("-h")) {
     std::printf(
@@ -49,9 +50,9 @@ int runView(int argc, char** argv) {
         "  --atlas-mib N      shared brick atlas budget (default 96)\n"
         "  --upload-mib N     brick bytes uploaded per frame at most (default 16)\n"
         "  --loader-threads N tile loader threads (default 2)\n"
-        "%s"
+        "%s%s"
         "  --device NAME      GPU choice (index or part of its name; default: the best)\n",
-        viewer::keyHelp().c_str(), kRenderHelp);
+        viewer::keyHelp().c_str(), kPrimaryHelp, kRenderHelp);
     return 0;
   }
   if (args.positional().size() != 1)
@@ -85,6 +86,7 @@ int runView(int argc, char** argv) {
   o.world.loaderThreads = args.integer("--loader-threads", o.world.loaderThreads, 1, 64);
   o.world.render =
       renderOptionsFromArgs(args, false, 0, kProbeBudgetOfDevice, kRelightBudgetOfDevice);
+  o.world.primaryMesh = primaryMeshFromArgs(args, false);
   if (const auto device = deviceFromArgs(args)) o.device = *device;
   return viewer::runView(o);
 }

@@ -5,7 +5,6 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "world/import.h"
 
 namespace sdfstream::cli {
 namespace {
@@ -144,15 +143,15 @@ const char* const kPrimaryHelp =
     "  --primary raster|sdf              primary surfaces (default: raster with --mesh, else\n"
     "                                    the SDF's, traced)\n";
 
-std::unique_ptr<TriangleScene> primaryMeshFromArgs(const Args& args, bool cpu) {
+std::filesystem::path primaryMeshFromArgs(const Args& args, bool cpu) {
   const auto mesh = args.value("--mesh");
   const std::string primary = args.value("--primary").value_or(mesh ? "raster" : "sdf");
   if (primary != "raster" && primary != "sdf")
     throw usage("--primary expects raster or sdf, got '" + primary + "'");
-  if (primary == "sdf") return nullptr;
+  if (primary == "sdf") return {};
   if (!mesh) throw usage("--primary raster needs --mesh SCENE (the triangles to rasterize)");
   if (cpu) throw usage("--primary raster needs Vulkan (drop --cpu, or use --primary sdf)");
-  return std::make_unique<TriangleScene>(loadTriangles(*mesh));
+  return *mesh;
 }
 
 }  // namespace sdfstream::cli

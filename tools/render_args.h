@@ -4,13 +4,12 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
+#include <filesystem>
 #include <set>
 #include <string>
 
 #include "demo/render_options.h"
 #include "tools/args.h"
-#include "world/triangle_scene.h"
 
 namespace sdfstream::cli {
 
@@ -29,10 +28,10 @@ RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFra
                                     std::uint32_t defaultRelightBudget = kRelightEveryPage);
 
 // --mesh FILE and --primary raster|sdf (render, view; add both to the command's value options):
-// the mesh scene whose triangles are rasterized as the primary surfaces, or nullptr for the
-// SDF's. --mesh alone means raster; --primary raster without --mesh, or with --cpu, is a usage
-// error. Throws InputError naming the file when it cannot be loaded.
+// the mesh scene whose triangles are rasterized as the primary surfaces
+// (StreamedGiOptions::primaryMesh), or empty for the SDF's. --mesh alone means raster;
+// --primary raster without --mesh, or with --cpu, is a usage error.
 extern const char* const kPrimaryHelp;
-std::unique_ptr<TriangleScene> primaryMeshFromArgs(const Args& args, bool cpu);
+std::filesystem::path primaryMeshFromArgs(const Args& args, bool cpu);
 
 }  // namespace sdfstream::cli

@@ -163,9 +163,9 @@ class ViewSession {
         firstShown_ = Clock::now();
       } else {
         const GiFrameTimes& t = world_->renderer()->lastTimes();
-        const double ms[5] = {gi_.lightMilliseconds, gi_.probeMilliseconds, gi_.objectMilliseconds,
-                              t.shadeMilliseconds, t.sampleMilliseconds};
-        for (int i = 0; i < 5; ++i) gpuSums_[i] += ms[i];
+        const double ms[6] = {gi_.lightMilliseconds, gi_.probeMilliseconds, gi_.objectMilliseconds,
+                              t.shadeMilliseconds,   t.sampleMilliseconds,  t.rasterMilliseconds};
+        for (int i = 0; i < 6; ++i) gpuSums_[i] += ms[i];
       }
     }
     // After the first frame, which uploads the stack and builds the passes.
@@ -173,9 +173,10 @@ class ViewSession {
     const int timed = std::max(1, framesShown_ - 1);
     std::printf(
         "view: %d frames shown, %.1f fps after the first (GPU ms a frame: light %.3f, "
-        "probes %.3f, objects %.3f, shade %.3f, sample %.3f)%s\n",
+        "probes %.3f, objects %.3f, shade %.3f, sample %.3f%s)%s\n",
         framesShown_, wall > 0.0 ? double(framesShown_ - 1) / wall : 0.0, gpuSums_[0] / timed,
         gpuSums_[1] / timed, gpuSums_[2] / timed, gpuSums_[3] / timed, gpuSums_[4] / timed,
+        world_->primaryMesh() ? (", raster " + std::to_string(gpuSums_[5] / timed)).c_str() : "",
         world_->degradedNote().c_str());
     return 0;
   }
@@ -230,10 +231,10 @@ class ViewSession {
     char line[4][256];
     std::snprintf(line[0], sizeof line[0],
                   "%.1f fps (%.1f ms)  GPU ms: light %.2f  probes %.2f  objects %.2f  shade %.2f  "
-                  "sample %.2f",
+                  "sample %.2f  raster %.2f",
                   frameMilliseconds_ > 0.0 ? 1e3 / frameMilliseconds_ : 0.0, frameMilliseconds_,
                   gi_.lightMilliseconds, gi_.probeMilliseconds, gi_.objectMilliseconds,
-                  t.shadeMilliseconds, t.sampleMilliseconds);
+                  t.shadeMilliseconds, t.sampleMilliseconds, t.rasterMilliseconds);
     std::snprintf(line[1], sizeof line[1],
                   "resident %.1f%% of %llu bricks  %u pages missing  %.2f MiB streamed this frame",
                   required ? 100.0 * double(resident) / double(required) : 100.0,
@@ -289,7 +290,7 @@ class ViewSession {
   double simSeconds_ = 0.0, frameMilliseconds_ = 0.0;
   int framesShown_ = 0;
   Clock::time_point firstShown_;
-  double gpuSums_[5] = {};  // light, probes, objects, shade, sample: GPU ms after the first frame
+  double gpuSums_[6] = {};  // light, probes, objects, shade, sample, raster: GPU ms after frame 1
   StreamFrameStats stream_;
   GiFrameStats gi_;
 };

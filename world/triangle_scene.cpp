@@ -1,5 +1,6 @@
 #include "world/triangle_scene.h"
 
+#include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
@@ -56,16 +57,43 @@ glm::vec4 sampleTexture(const Texture& tex, glm::vec2 uv) {
 
 // The texture tap of one material slot, or nullopt when the slot has no texture or the scene
 // lacks its UV set (the factor alone then applies, as before multiple sets were imported).
+// With a pyramid and a footprint > 0 (metres on the surface), the tap is trilinear over the
+// mip levels whose texels match the footprint.
 std::optional<glm::vec4> sampleSlot(const TriangleScene& scene, std::uint32_t triangle,
                                     glm::vec2 bary, int texture, int texCoord,
-                                    const UvTransform& transform) {
+                                    const UvTransform& transform,
+                                    const TexturePyramid* pyramid = nullptr,
+                                    float footprint = 0.0f) {
   if (texture < 0 || std::size_t(texture) >= scene.textures.size()) return std::nullopt;
   if (texCoord != 0 && texCoord != 1) return std::nullopt;
   const std::vector<glm::vec2>& uvs = texCoord == 1 ? scene.uvs1 : scene.uvs;
   if (uvs.size() != scene.positions.size()) return std::nullopt;
   const glm::uvec3 t = scene.triangles[triangle];
   const glm::vec2 uv = uvs[t.x] * (1.0f - bary.x - bary.y) + uvs[t.y] * bary.x + uvs[t.z] * bary.y;
-  return sampleTexture(scene.textures[std::size_t(texture)], transform.apply(uv));
+  const Texture& base = scene.textures[std::size_t(texture)];
+  const glm::vec2 at = transform.apply(uv);
+  if (!pyramid || !(footprint > 0.0f) || std::size_t(texture) >= pyramid->levels.size() ||
+      pyramid->levels[std::size_t(texture)].empty())
+    return sampleTexture(base, at);
+  // Texels per metre on this triangle: sqrt of the texel area over the surface area, the UV
+  // transform's area scale included.
+  const glm::vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
+  const float worldArea = glm::length(glm::cross(p1 - p0, p2 - p0));
+  const glm::vec2 e1 = uvs[t.y] - uvs[t.x], e2 = uvs[t.z] - uvs[t.x];
+  const float uvScale = std::abs(transform.column0.x * transform.column1.y -
+                                 transform.column0.y * transform.column1.x);
+  const float uvArea = std::abs(e1.x * e2.y - e1.y * e2.x) * uvScale;
+  if (!(worldArea > 0.0f) || !(uvArea > 0.0f)) return sampleTexture(base, at);
+  const float texels =
+      std::sqrt(uvArea / worldArea * float(base.width) * float(base.height)) * footprint;
+  const std::vector<Texture>& chain = pyramid->levels[std::size_t(texture)];
+  const float lod = std::clamp(std::log2(std::max(texels, 1.0f)), 0.0f, float(chain.size()));
+  const int lower = int(std::floor(lod));
+  const float f = lod - float(lower);
+  auto level = [&](int k) -> const Texture& { return k == 0 ? base : chain[std::size_t(k - 1)]; };
+  const glm::vec4 a = sampleTexture(level(lower), at);
+  if (f <= 0.0f || lower >= int(chain.size())) return a;
+  return glm::mix(a, sampleTexture(level(lower + 1), at), f);
 }
 
 const Material& materialOf(const TriangleScene& scene, std::uint32_t triangle) {
@@ -103,8 +131,8 @@ double TriangleScene::surfaceArea() const {
 glm::vec4 sampleAlbedo(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary) {
   const Material& m = materialOf(scene, triangle);
   glm::vec4 color = m.baseColorFactor;
-  if (auto tap = sampleSlot(scene, triangle, bary, m.baseColorTexture, m.baseColorTexCoord,
-                            m.baseColorUv))
+  if (auto tap =
+          sampleSlot(scene, triangle, bary, m.baseColorTexture, m.baseColorTexCoord, m.baseColorUv))
     color *= *tap;
   return color;
 }
@@ -113,8 +141,73 @@ glm::vec3 sampleEmission(const TriangleScene& scene, std::uint32_t triangle, glm
   const Material& m = materialOf(scene, triangle);
   glm::vec3 emission = m.emissive;
   if (emission == glm::vec3(0.0f)) return emission;
+  if (auto tap =
+          sampleSlot(scene, triangle, bary, m.emissiveTexture, m.emissiveTexCoord, m.emissiveUv))
+    emission *= glm::vec3(*tap);
+  return emission;
+}
+
+TexturePyramid buildTexturePyramid(const TriangleScene& scene) {
+  const auto& lut = srgbToLinearTable();
+  TexturePyramid pyramid;
+  pyramid.levels.resize(scene.textures.size());
+  for (std::size_t t = 0; t < scene.textures.size(); ++t) {
+    const Texture* above = &scene.textures[t];
+    if (above->width <= 0 || above->height <= 0 ||
+        above->rgba.size() != std::size_t(above->width) * std::size_t(above->height) * 4)
+      continue;  // sampleTexture treats it as white at every level
+    std::vector<Texture>& chain = pyramid.levels[t];
+    while (above->width > 1 || above->height > 1) {
+      Texture next;
+      next.width = std::max(above->width / 2, 1);
+      next.height = std::max(above->height / 2, 1);
+      next.rgba.resize(std::size_t(next.width) * std::size_t(next.height) * 4);
+      for (int y = 0; y < next.height; ++y)
+        for (int x = 0; x < next.width; ++x) {
+          glm::vec4 sum(0.0f);
+          // The 2x2 block above (one texel along an axis that was already 1 wide).
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+              const int sx = std::min(2 * x + dx, above->width - 1);
+              const int sy = std::min(2 * y + dy, above->height - 1);
+              const std::uint8_t* texel =
+                  &above->rgba[(std::size_t(sy) * std::size_t(above->width) + std::size_t(sx)) * 4];
+              sum += glm::vec4(lut[texel[0]], lut[texel[1]], lut[texel[2]], texel[3] / 255.0f);
+            }
+          sum *= 0.25f;
+          std::uint8_t* out =
+              &next.rgba[(std::size_t(y) * std::size_t(next.width) + std::size_t(x)) * 4];
+          for (int c = 0; c < 3; ++c) {
+            const double v = sum[c];
+            const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+            out[c] = std::uint8_t(std::lround(std::clamp(e, 0.0, 1.0) * 255.0));
+          }
+          out[3] = std::uint8_t(std::lround(std::clamp(sum.a, 0.0f, 1.0f) * 255.0f));
+        }
+      chain.push_back(std::move(next));
+      above = &chain.back();
+    }
+  }
+  return pyramid;
+}
+
+glm::vec4 sampleAlbedo(const TriangleScene& scene, const TexturePyramid& pyramid,
+                       std::uint32_t triangle, glm::vec2 bary, float footprint) {
+  const Material& m = materialOf(scene, triangle);
+  glm::vec4 color = m.baseColorFactor;
+  if (auto tap = sampleSlot(scene, triangle, bary, m.baseColorTexture, m.baseColorTexCoord,
+                            m.baseColorUv, &pyramid, footprint))
+    color *= *tap;
+  return color;
+}
+
+glm::vec3 sampleEmission(const TriangleScene& scene, const TexturePyramid& pyramid,
+                         std::uint32_t triangle, glm::vec2 bary, float footprint) {
+  const Material& m = materialOf(scene, triangle);
+  glm::vec3 emission = m.emissive;
+  if (emission == glm::vec3(0.0f)) return emission;
   if (auto tap = sampleSlot(scene, triangle, bary, m.emissiveTexture, m.emissiveTexCoord,
-                            m.emissiveUv))
+                            m.emissiveUv, &pyramid, footprint))
     emission *= glm::vec3(*tap);
   return emission;
 }

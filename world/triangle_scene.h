@@ -49,10 +49,10 @@ struct TriangleScene {
   std::vector<glm::vec2> uvs1;        // TEXCOORD_1: empty, or one per position (zero where absent)
   std::vector<glm::uvec3> triangles;  // indices into positions
   std::vector<std::uint32_t> triangleMaterial;  // one per triangle, index into materials
-  std::vector<Material> materials;    // never empty after import (a default grey is added)
+  std::vector<Material> materials;  // never empty after import (a default grey is added)
   std::vector<Texture> textures;
-  std::vector<SceneLight> lights;     // the file's own lights (glTF KHR_lights_punctual), if any
-  std::string source;                 // file the scene came from
+  std::vector<SceneLight> lights;  // the file's own lights (glTF KHR_lights_punctual), if any
+  std::string source;              // file the scene came from
 
   glm::vec3 boundsMin() const;
   glm::vec3 boundsMax() const;
@@ -64,5 +64,21 @@ struct TriangleScene {
 glm::vec4 sampleAlbedo(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary);
 // Linear emission at the same point.
 glm::vec3 sampleEmission(const TriangleScene& scene, std::uint32_t triangle, glm::vec2 bary);
+
+// Box-filtered mip chains of a scene's textures (each level half the one above, averaged in
+// linear light and re-encoded as sRGB), for taps that cover a footprint: what a rasterizer's
+// trilinear sampler does, so a texture seen from afar shows its mean, not aliased texels.
+// levels[t][k] is level k + 1 of scene.textures[t] (level 0 is the texture itself).
+struct TexturePyramid {
+  std::vector<std::vector<Texture>> levels;
+};
+TexturePyramid buildTexturePyramid(const TriangleScene& scene);
+// sampleAlbedo / sampleEmission filtered over a footprint of `footprint` metres on the surface
+// (a pixel's size there): the mip level follows the triangle's texels per metre, with a
+// trilinear tap between the two nearest levels. footprint <= 0: the unfiltered tap.
+glm::vec4 sampleAlbedo(const TriangleScene& scene, const TexturePyramid& pyramid,
+                       std::uint32_t triangle, glm::vec2 bary, float footprint);
+glm::vec3 sampleEmission(const TriangleScene& scene, const TexturePyramid& pyramid,
+                         std::uint32_t triangle, glm::vec2 bary, float footprint);
 
 }  // namespace sdfstream

@@ -50,7 +50,9 @@ struct ShadePushConstants {
 struct ShadedHit {
   vec4 normalT;   // xyz: unit SDF normal at the hit; w: hit distance, cascade-0 voxels (0..15)
   vec4 direct;    // rgb: hit: outgoing direct radiance, emission + albedo/π · E_direct;
-                  // miss: sky radiance along the ray. w: 0                          (16..31)
+                  // miss: sky radiance along the ray. w: how far along the normal the
+                  // hit's probe query starts, cascade-0 voxels (a given surface lying
+                  // inside the SDF's surface; 0 for traced hits)                    (16..31)
   uint albedo;    // RGBA8 sRGB-encoded albedo of the hit material voxel (0 on a miss) (32..35)
   uint emission;  // RGB9E5 linear emission of the hit material voxel               (36..39)
   uint steps;     // sphere-tracing iterations of the primary ray (static + object)  (40..43)

@@ -1,4 +1,5 @@
-// Texture sampling on a hand-made scene: sRGB decode before filtering, bilinear, REPEAT wrap.
+// Texture sampling on a hand-made scene: sRGB decode before filtering, bilinear, REPEAT wrap;
+// the mip pyramid's box filter and the footprint-filtered tap.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -62,6 +63,49 @@ TEST(TriangleSceneSampling, BoundsAndArea) {
   EXPECT_EQ(s.boundsMax(), glm::vec3(1.0f, 1.0f, 0.0f));
   EXPECT_DOUBLE_EQ(s.surfaceArea(), 0.5);
   EXPECT_EQ(TriangleScene{}.boundsMin(), glm::vec3(0.0f));
+}
+
+// A 64 x 64 one-texel checker of black and white on a 1 m triangle whose UVs span the texture:
+// 64 texels a metre.
+TriangleScene checkerScene() {
+  TriangleScene s = twoTexelScene(glm::vec4(1.0f));
+  Texture& t = s.textures[0];
+  t.width = t.height = 64;
+  t.rgba.assign(64 * 64 * 4, 255);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      if ((x + y) % 2)
+        for (int c = 0; c < 3; ++c) t.rgba[(y * 64 + x) * 4 + c] = 0;
+  return s;
+}
+
+TEST(TriangleSceneSampling, PyramidBoxFiltersInLinearLight) {
+  const TriangleScene s = checkerScene();
+  const TexturePyramid p = buildTexturePyramid(s);
+  ASSERT_EQ(p.levels.size(), 1u);
+  ASSERT_EQ(p.levels[0].size(), 6u);  // 32, 16, 8, 4, 2, 1
+  EXPECT_EQ(p.levels[0].back().width, 1);
+  // Every texel of level 1 averages two black and two white: linear 0.5, sRGB code 188.
+  for (const Texture& level : p.levels[0])
+    for (std::size_t i = 0; i < level.rgba.size(); i += 4) {
+      ASSERT_EQ(level.rgba[i], 188);
+      ASSERT_EQ(level.rgba[i + 3], 255);
+    }
+}
+
+TEST(TriangleSceneSampling, FootprintPicksTheMipLevel) {
+  const TriangleScene s = checkerScene();
+  const TexturePyramid p = buildTexturePyramid(s);
+  const glm::vec2 centre((10 + 0.5f) / 64.0f, (20 + 0.5f) / 64.0f);  // a white texel's centre
+  // No footprint, or one under a texel: the texel itself.
+  EXPECT_NEAR(sampleAlbedo(s, p, 0, centre, 0.0f).r, 1.0f, 1e-6f);
+  EXPECT_NEAR(sampleAlbedo(s, p, 0, centre, 0.5f / 64.0f).r, 1.0f, 1e-6f);
+  // Four texels a pixel (level 2) and more: the checker's mean, linear 0.5 (sRGB 188 decoded).
+  EXPECT_NEAR(sampleAlbedo(s, p, 0, centre, 4.0f / 64.0f).r, srgb(188), 1e-5f);
+  EXPECT_NEAR(sampleAlbedo(s, p, 0, centre, 100.0f).g, srgb(188), 1e-5f);
+  // Halfway between levels 0 and 1 (sqrt 2 texels): halfway between white and the mean.
+  EXPECT_NEAR(sampleAlbedo(s, p, 0, centre, std::sqrt(2.0f) / 64.0f).b, 0.5f * (1.0f + srgb(188)),
+              1e-4f);
 }
 
 }  // namespace
