@@ -138,8 +138,6 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
     std::span<const gpu_shared::TraceRay> rays, std::span<const gpu_shared::GpuLight> lights,
     const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0,
     const ObjectScene* objects, std::span<const gpu_shared::PrimarySurface> surfaces) {
-  assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
-  assert(surfaces.empty() || surfaces.size() == rays.size());
   milliseconds_ = 0.0;
   if (rays.empty()) return {};
   const std::size_t rayBytes = rays.size() * sizeof(gpu_shared::TraceRay);
@@ -148,36 +146,55 @@ std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
   rays_.reserve(rayBytes);
   shaded_.reserve(outBytes);
   std::memcpy(rays_.host(), rays.data(), rayBytes);
-  const std::size_t surfaceBytes = surfaces.size() * sizeof(gpu_shared::PrimarySurface);
-  if (surfaceBytes) {
-    surfaces_.reserve(surfaceBytes);
-    std::memcpy(surfaces_.host(), surfaces.data(), surfaceBytes);
-  }
-  if (!lights.empty())
-    std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
-  gpu_shared::ShadePushConstants pc = shadePushConstants(settings, rays.size(), lights.size(),
-                                                         scene.cascadeCount(), sky, voxelSize0);
-  if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
-  if (surfaceBytes) pc.options.z = gpu_shared::kShadePrimaryGiven;
-  std::vector<const gpu::Buffer*> bindings = {
-      &rays_.device(),   &shaded_.device(), &scene.pageTables(),
-      &scene.distance(), &scene.albedo(),   &scene.emission(),
-      &scene.params(),   &lights_,          lightRadiance ? lightRadiance : &noRadiance_};
-  for (const gpu::Buffer* o :
-       objects && objects->active() ? objects->buffers() : noObjects_.buffers())
-    bindings.push_back(o);
-  bindings.push_back(surfaceBytes ? &surfaces_.device() : &noSurfaces_);
   gpu::CommandBatch batch = context_.beginBatch();
   rays_.recordCopy(batch, rayBytes);
-  if (surfaceBytes) surfaces_.recordCopy(batch, surfaceBytes);
-  batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
-                 shade_detail::spread(pc.counts.x));
+  record(batch, scene, lightRadiance, rays_.device(), shaded_.device(), rays.size(), lights, sky,
+         settings, voxelSize0, objects, surfaces);
   shaded_.recordCopy(batch, outBytes);
   batch.submitAndWait();
   for (const auto& t : batch.timings()) milliseconds_ += t.milliseconds;
   std::vector<gpu_shared::ShadedHit> out(rays.size());
   std::memcpy(out.data(), shaded_.host(), outBytes);
   return out;
+}
+
+void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& scene,
+                              const gpu::Buffer* lightRadiance, const gpu::Buffer& rays,
+                              const gpu::Buffer& shaded, std::size_t count,
+                              std::span<const gpu_shared::GpuLight> lights,
+                              const gpu_shared::GpuSky& sky, const ShadingSettings& settings,
+                              double voxelSize0, const ObjectScene* objects,
+                              std::span<const gpu_shared::PrimarySurface> surfaces) {
+  assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
+  assert(surfaces.empty() || surfaces.size() == count);
+  // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
+  const std::size_t surfaceBytes = surfaces.size() * sizeof(gpu_shared::PrimarySurface);
+  if (surfaceBytes) {
+    surfaces_.reserve(surfaceBytes);
+    std::memcpy(surfaces_.host(), surfaces.data(), surfaceBytes);
+    surfaces_.recordCopy(batch, surfaceBytes);
+  }
+  if (!lights.empty())
+    std::memcpy(lights_.mapped(), lights.data(), lights.size() * sizeof(gpu_shared::GpuLight));
+  gpu_shared::ShadePushConstants pc =
+      shadePushConstants(settings, count, lights.size(), scene.cascadeCount(), sky, voxelSize0);
+  if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
+  if (surfaceBytes) pc.options.z = gpu_shared::kShadePrimaryGiven;
+  std::vector<const gpu::Buffer*> bindings = {&rays,
+                                              &shaded,
+                                              &scene.pageTables(),
+                                              &scene.distance(),
+                                              &scene.albedo(),
+                                              &scene.emission(),
+                                              &scene.params(),
+                                              &lights_,
+                                              lightRadiance ? lightRadiance : &noRadiance_};
+  for (const gpu::Buffer* o :
+       objects && objects->active() ? objects->buffers() : noObjects_.buffers())
+    bindings.push_back(o);
+  bindings.push_back(surfaceBytes ? &surfaces_.device() : &noSurfaces_);
+  batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
+                 shade_detail::spread(pc.counts.x));
 }
 
 std::vector<glm::vec3> HdrFrame::final() const {
@@ -228,8 +245,8 @@ std::vector<gpu_shared::ProbeQuery> probeQueries(std::span<const gpu_shared::Sha
     const glm::vec3 dir(rays[i].dirTMax);
     // A given (rasterized) surface's query starts where its shadow rays do, outside the SDF's
     // surface (ShadedHit::direct.w; 0 for traced hits).
-    const glm::vec3 hit = glm::vec3(rays[i].originTMin) + dir * h.normalT.w +
-                          glm::vec3(h.normalT) * h.direct.w;
+    const glm::vec3 hit =
+        glm::vec3(rays[i].originTMin) + dir * h.normalT.w + glm::vec3(h.normalT) * h.direct.w;
     gpu_shared::ProbeQuery q{};
     q.position = glm::vec4(hit, 0.0f);  // w = 0: blend across all cascades
     q.normal = glm::vec4(glm::vec3(h.normalT), 0.0f);
@@ -296,6 +313,31 @@ SceneLights defaultSceneLights(glm::vec3 sunTravelDirection, float sunIrradiance
   l.sky.horizon = skyHorizon;
   return l;
 }
+
+// renderPicture's passes and per-pixel device buffers (grown on demand, never shrunk).
+struct GiRenderer::PicturePasses {
+  explicit PicturePasses(gpu::Context& context)
+      : context(context),
+        rays(context, gpu::ShaderId::camera_rays,
+             gpu::PipelineDesc{1, sizeof(gpu_shared::CameraRaysPush), glm::uvec3(64, 1, 1)}),
+        compose(context, gpu::ShaderId::frame_compose,
+                gpu::PipelineDesc{3 + GiSystem::kSampleBindingCount,
+                                  sizeof(gpu_shared::FrameComposePush), glm::uvec3(64, 1, 1)}) {}
+  void reserve(std::size_t pixels) {
+    if (pixels <= capacity) return;
+    rayBuffer =
+        gpu::Buffer(context, pixels * sizeof(gpu_shared::TraceRay), gpu::BufferKind::DeviceLocal);
+    shaded =
+        gpu::Buffer(context, pixels * sizeof(gpu_shared::ShadedHit), gpu::BufferKind::DeviceLocal);
+    picture = gpu::Buffer(context, pixels * 4, gpu::BufferKind::DeviceLocal);
+    readback = gpu::Buffer(context, pixels * 4, gpu::BufferKind::Readback);
+    capacity = pixels;
+  }
+  gpu::Context& context;
+  gpu::ComputePipeline rays, compose;
+  gpu::Buffer rayBuffer, shaded, picture, readback;
+  std::size_t capacity = 0;
+};
 
 GiRenderer::GiRenderer(gpu::Context& context, const GiRendererOptions& options,
                        std::uint32_t cascades)
@@ -408,6 +450,67 @@ GiFrameStats GiRenderer::update(const CascadeStack& stack, std::span<const std::
         light_ || instances_ ? updateDirectOnly(stack.stackImage(), lights) : GiFrameStats{};
   }
   return times_.gi;
+}
+
+Image8 GiRenderer::renderPicture(const Camera& camera, int width, int height,
+                                 const CascadeStackImage& image, const SceneLights& lights,
+                                 const PictureSettings& settings) {
+  const std::size_t pixels = std::size_t(width) * std::size_t(height);
+  if (!picture_) picture_ = std::make_unique<PicturePasses>(context_);
+  picture_->reserve(pixels);
+  std::vector<gpu_shared::PrimarySurface> surfaces;
+  times_.rasterMilliseconds = 0.0;
+  if (raster_) {
+    const VisibilityImage visible =
+        raster_->render(viewRasterPush(camera, width, height), width, height);
+    times_.rasterMilliseconds = raster_->lastMilliseconds();
+    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
+    surfaces =
+        resolvePrimarySurfaces(raster_->scene(), raster_->pyramid(), visible, camera.position,
+                               pixelAngle, image.cascade0MinWorld, image.voxelSize0);
+  }
+  gpu_shared::CameraRaysPush rays =
+      cameraRaysPush(camera, width, height, image.toStack(camera.position));
+  if (!image.params.empty()) {  // cascades are nested: the coarsest window holds the others
+    const gpu_shared::CascadeTraceParams& outer = image.params.back();
+    const glm::vec3 lo(outer.offsetScale);
+    rays.windowLo = glm::vec4(lo, 0.0f);
+    rays.windowHi = glm::vec4(lo + glm::vec3(128.0f * outer.offsetScale.w), 1.0f);
+  }
+  gpu_shared::FrameComposePush compose{};
+  compose.size = glm::uvec4(std::uint32_t(width), std::uint32_t(height), settings.mode,
+                            (gi_ ? gpu_shared::kFrameProbesBound : 0u) |
+                                (settings.indirect ? gpu_shared::kFrameAddIndirect : 0u));
+  compose.params =
+      glm::vec4(std::exp2(settings.exposureStops), std::exp2(settings.indirectStops), 0.0f, 0.0f);
+  PicturePasses& p = *picture_;
+  std::vector<const gpu::Buffer*> bindings = {&p.rayBuffer, &p.shaded, &p.picture};
+  if (gi_) {
+    for (const gpu::Buffer* b : gi_->sampleBuffers()) bindings.push_back(b);
+  } else {
+    bindings.resize(bindings.size() + GiSystem::kSampleBindingCount, &p.shaded);  // never read
+  }
+  gpu::CommandBatch batch = context_.beginBatch();
+  batch.dispatch("camera_rays", p.rays, {&p.rayBuffer}, &rays, sizeof rays,
+                 shade_detail::spread(std::uint32_t(pixels)));
+  shade_.record(batch, scene(), lightRadiance(), p.rayBuffer, p.shaded, pixels,
+                toGpu(lights.lights, image), toGpu(lights.sky), options_.shading, image.voxelSize0,
+                objectScene(), surfaces);
+  batch.dispatch("frame_compose", p.compose, bindings, &compose, sizeof compose,
+                 shade_detail::spread(std::uint32_t(pixels)));
+  batch.copy(p.picture, p.readback, pixels * 4);
+  batch.submitAndWait();
+  times_.shadeMilliseconds = times_.sampleMilliseconds = 0.0;
+  for (const gpu::PassTiming& t : batch.timings()) {
+    if (t.name == "frame_compose") times_.sampleMilliseconds += t.milliseconds;
+    if (t.name == "camera_rays" || t.name == "shade_primary")
+      times_.shadeMilliseconds += t.milliseconds;
+  }
+  Image8 out{width, height, std::vector<std::uint8_t>(pixels * 3)};
+  const auto* rgba = static_cast<const std::uint8_t*>(p.readback.mapped());
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) out.rgb[3 * i + c] = rgba[4 * i + c];
+  return out;
 }
 
 ShadedView GiRenderer::shade(const Camera& camera, int width, int height,

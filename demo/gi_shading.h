@@ -22,6 +22,7 @@
 
 #include <glm/glm.hpp>
 
+#include "demo/frame_image.h"
 #include "gi/camera.h"
 #include "gi/cpu_tracer.h"
 #include "gi/gi_system.h"
@@ -34,6 +35,7 @@
 #include "gpu/context.h"
 #include "gpu/staged_buffer.h"
 #include "raster/mesh_view_raster.h"
+#include "shaders/shared/frame_layout.h"
 #include "shaders/shared/shade_layout.h"
 #include "streaming/cascade.h"
 #include "streaming/cascade_stack.h"
@@ -83,6 +85,15 @@ class PrimaryShadePass {
                                          const ShadingSettings& settings, double voxelSize0,
                                          const ObjectScene* objects = nullptr,
                                          std::span<const gpu_shared::PrimarySurface> surfaces = {});
+  // Records the same pass into `batch` over `count` rays already on the device (`rays`, a view
+  // made there), writing `shaded` on the device: nothing is read back. Until the batch has
+  // completed, no other run() or record() of this pass (they share its staging buffers).
+  void record(gpu::CommandBatch& batch, const GpuStackScene& scene,
+              const gpu::Buffer* lightRadiance, const gpu::Buffer& rays, const gpu::Buffer& shaded,
+              std::size_t count, std::span<const gpu_shared::GpuLight> lights,
+              const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0,
+              const ObjectScene* objects = nullptr,
+              std::span<const gpu_shared::PrimarySurface> surfaces = {});
   double lastMilliseconds() const { return milliseconds_; }
 
  private:
@@ -130,6 +141,14 @@ CascadeStackImage stackImageOf(const CascadeImage& cascade);
 // The default light rig of the demo views: sun + gradient sky (linear RGB, scene radiance scale).
 SceneLights defaultSceneLights(glm::vec3 sunTravelDirection, float sunIrradiance,
                                glm::vec3 skyZenith, glm::vec3 skyHorizon);
+
+// What GiRenderer::renderPicture shows (shaders/shared/frame_layout.h).
+struct PictureSettings {
+  std::uint32_t mode = gpu_shared::kFrameFinal;  // kFrame*: final, direct, indirect, debug views
+  bool indirect = true;                          // kFrameFinal adds the indirect light (with GI on)
+  float exposureStops = 0.0f;                    // as toneMap's
+  float indirectStops = 2.0f;  // kFrameIndirect shows the indirect light this much brighter
+};
 
 struct GiRendererOptions {
   bool gi = true;  // false: direct light only (no probe field is allocated or updated)
@@ -198,6 +217,15 @@ class GiRenderer {
                   const SceneLights& lights) {
     return finish(shade(camera, width, height, image, lights));
   }
+  // The view's picture composed on the GPU in one submission: the primary rays made there
+  // (camera_rays.comp), traced and shaded as shade() does (or the raster primary's surfaces),
+  // the probe field sampled per pixel as an engine's shader would (frame_compose.comp: the
+  // installable sdfstream/probe_sample.glsl), tone-mapped there; only the picture (4 bytes a
+  // pixel) is read back, not the hits (48) nor the queries. The same picture as
+  // toneMap(finish(shade(...)).final(), exposure) and the viewer's debug views, to within a
+  // level of rounding. lastTimes(): shade = rays + shading pass, sample = the compose pass.
+  Image8 renderPicture(const Camera& camera, int width, int height, const CascadeStackImage& image,
+                       const SceneLights& lights, const PictureSettings& settings);
   // Mean E_indirect over a fixed subset of receivers (a convergence probe; 0 with GI off).
   glm::vec3 meanIrradiance(std::span<const gpu_shared::ProbeQuery> queries);
 
@@ -231,6 +259,8 @@ class GiRenderer {
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   PrimaryShadePass shade_;
   std::unique_ptr<MeshViewRaster> raster_;  // --primary raster
+  struct PicturePasses;                     // renderPicture's pipelines and buffers
+  std::unique_ptr<PicturePasses> picture_;
   GiFrameTimes times_;
 };
 

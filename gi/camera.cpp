@@ -128,4 +128,18 @@ gpu_shared::ViewRasterPush viewRasterPush(const Camera& camera, int width, int h
   return push;
 }
 
+gpu_shared::CameraRaysPush cameraRaysPush(const Camera& camera, int width, int height,
+                                          const glm::vec3& originInRayFrame) {
+  const CameraFrame f = cameraFrame(camera);
+  const double tanHalf = std::tan(glm::radians(camera.fovYDegrees) * 0.5);
+  const double aspect = double(width) / double(height);
+  gpu_shared::CameraRaysPush push{};
+  push.origin = glm::vec4(originInRayFrame, 0.0f);
+  push.forward = glm::vec4(glm::vec3(f.forward), 0.0f);
+  push.right = glm::vec4(glm::vec3(f.right * (tanHalf * aspect)), 0.0f);
+  push.up = glm::vec4(glm::vec3(f.up * tanHalf), 0.0f);
+  push.size = glm::uvec4(std::uint32_t(width), std::uint32_t(height), 0u, 0u);
+  return push;
+}
+
 }  // namespace sdfstream

@@ -8,6 +8,7 @@
 
 #include <glm/glm.hpp>
 
+#include "shaders/shared/frame_layout.h"
 #include "shaders/shared/sdf_layout.h"
 #include "shaders/shared/view_raster_layout.h"
 #include "streaming/cascade.h"
@@ -47,5 +48,10 @@ std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int widt
 // Vulkan clip space, reverse-Z, infinite far plane, near plane 1 mm): pixel (x, y)'s centre sees
 // along primaryRaysFrom's ray (x, y).
 gpu_shared::ViewRasterPush viewRasterPush(const Camera& camera, int width, int height);
+
+// The push constants of camera_rays.comp for the same rays (shared/frame_layout.h), the camera
+// at `originInRayFrame` (as primaryRaysFrom); no window (the caller sets windowLo/Hi).
+gpu_shared::CameraRaysPush cameraRaysPush(const Camera& camera, int width, int height,
+                                          const glm::vec3& originInRayFrame);
 
 }  // namespace sdfstream

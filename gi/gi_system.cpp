@@ -198,11 +198,14 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
   return probes_.sample(scene_, light_.radianceBuffer(), queries);
 }
 
-std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {
+std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {
   const auto probe = probes_.sampleBuffers();
-  const gpu::Buffer* buffers[kSampleBindingCount] = {
-      probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
-      &scene_.distance(), &scene_.params()};
+  return {probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
+          &scene_.distance(), &scene_.params()};
+}
+
+std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {
+  const auto buffers = sampleBuffers();
   std::array<VkDescriptorBufferInfo, kSampleBindingCount> out{};
   for (std::size_t i = 0; i < kSampleBindingCount; ++i)
     out[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};

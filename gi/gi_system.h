@@ -114,6 +114,8 @@ class GiSystem {
   // next one (buffers may be replaced when the streamed atlas grows): query it every frame.
   static constexpr std::size_t kSampleBindingCount = 8;
   std::array<VkDescriptorBufferInfo, kSampleBindingCount> sampleBindings() const;
+  // The same buffers, for a pass of this library's own (CommandBatch::dispatch).
+  std::array<const gpu::Buffer*, kSampleBindingCount> sampleBuffers() const;
 
   const GpuStackScene& scene() const { return scene_; }
   // GpuStackScene::reserveAtlas: the atlas slots the device could hold, at most `slots`.

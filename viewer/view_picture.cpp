@@ -8,8 +8,6 @@
 namespace sdfstream::viewer {
 namespace {
 
-constexpr float kIndirectStops = 2.0f;  // as fly's indirect layer
-
 // One colour per cascade (0 = finest), distinct at a glance.
 constexpr glm::u8vec3 kCascadeColours[8] = {{230, 60, 60},  {240, 160, 40}, {230, 220, 60},
                                             {80, 200, 80},  {60, 200, 220}, {70, 110, 240},

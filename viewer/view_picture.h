@@ -12,9 +12,19 @@
 namespace sdfstream::viewer {
 
 enum class ViewMode { Final, Direct, Indirect, Albedo, Normals, Cascade, Count };
+static_assert(int(ViewMode::Final) == int(gpu_shared::kFrameFinal) &&
+              int(ViewMode::Direct) == int(gpu_shared::kFrameDirect) &&
+              int(ViewMode::Indirect) == int(gpu_shared::kFrameIndirect) &&
+              int(ViewMode::Albedo) == int(gpu_shared::kFrameAlbedo) &&
+              int(ViewMode::Normals) == int(gpu_shared::kFrameNormals) &&
+              int(ViewMode::Cascade) == int(gpu_shared::kFrameCascade));
+// The Indirect view's extra brightness (as fly's indirect layer).
+inline constexpr float kIndirectStops = 2.0f;
 std::string_view viewModeName(ViewMode mode);
 ViewMode nextViewMode(ViewMode mode);
 
+// The viewer draws its pictures on the GPU (GiRenderer::renderPicture, kFrame* in the same order
+// as ViewMode); this is the same picture from a host-side frame, its reference.
 // The picture of `mode`: Final (direct + indirect, or direct only when `indirectOn` is false),
 // Direct, Indirect (2 stops brighter, as fly's layers) tone-mapped at `exposureStops`; Albedo
 // (the hit voxel's sRGB albedo), Normals (n * 0.5 + 0.5), Cascade (the cascade each primary ray

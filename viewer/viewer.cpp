@@ -206,17 +206,20 @@ class ViewSession {
   Image8 render(int frame, const Camera& cam, glm::ivec2 size) {
     const int width = std::max(16, int(std::lround(size.x * renderScale_)));
     const int height = std::max(16, int(std::lround(size.y * renderScale_)));
-    ShadedView view;
-    HdrFrame hdr;
+    // Composed on the GPU: only the picture comes back (GiRenderer::renderPicture).
+    PictureSettings settings;
+    settings.mode = std::uint32_t(mode_);
+    settings.indirect = indirect_;
+    settings.exposureStops = world_->render().exposureStops;
+    settings.indirectStops = kIndirectStops;
+    Image8 rendered;
     GiRenderer& renderer = *world_->renderer();
     world_->withinDeviceMemory(frame, [&] {
       gi_ = world_->giUpdate(cam);
-      view =
-          renderer.shade(cam, width, height, world_->stack().stackImage(), world_->render().lights);
-      hdr = renderer.finish(view);
+      rendered = renderer.renderPicture(cam, width, height, world_->stack().stackImage(),
+                                        world_->render().lights, settings);
     });
-    Image8 picture = scaleNearest(
-        viewPicture(mode_, view, hdr, indirect_, world_->render().exposureStops), size.x, size.y);
+    Image8 picture = scaleNearest(rendered, size.x, size.y);
     if (hud_ && o_.hud) drawHud(picture, hudLines(width, height), size.y >= 1000 ? 2 : 1);
     return picture;
   }

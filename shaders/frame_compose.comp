@@ -1,0 +1,79 @@
+#version 450
+// The picture of a shaded view, composed on the GPU (shared/frame_layout.h): for each pixel the
+// probe field's irradiance at its primary hit, sampled through the installable include as an
+// engine's shader would (include/sdfstream/probe_sample.glsl), the outgoing radiance direct +
+// albedo/π · E_indirect, exposure, the ACES fit and sRGB, packed as RGBA8 (R in the low byte,
+// A = 255). Debug modes write the albedo, normals or hit cascade instead. The CPU path it
+// replaces (probeQueries, GiSystem::irradiance, composeFrame, toneMap) is its reference.
+// Bindings: 0 rays, 1 shaded hits, 2 picture (written), 3-10 the probe field
+// (GiSystem::sampleBuffers; with GI off any buffers, never read without kFrameProbesBound).
+#extension GL_GOOGLE_include_directive : require
+
+#define SDFSTREAM_PROBE_BINDING 3
+#include "sdfstream/probe_sample.glsl"
+#include "shaders/shared/color_codec.h"
+#include "shaders/shared/shade_layout.h"
+#include "shaders/shared/frame_layout.h"
+
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Rays { TraceRay rays[]; };
+layout(std430, binding = 1) readonly buffer Shaded { ShadedHit shaded[]; };
+layout(std430, binding = 2) writeonly buffer Picture { uint picture[]; };
+
+layout(push_constant) uniform Push { FrameComposePush pc; };
+
+// One colour per cascade (as the viewer's legend): red, orange, yellow, green, cyan, blue,
+// violet, white.
+const uint kCascadeColours[8] = uint[8](0x3c3ce6u, 0x28a0f0u, 0x3cdce6u, 0x50c850u, 0xdcc83cu,
+                                        0xf06e46u, 0xe65aaau, 0xe6e6e6u);
+
+float srgbDecode(float c) {
+  return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+uint packPicture(vec3 linear) {
+  vec3 c = frameAcesFitted(linear * pc.params.x);
+  return frameSrgb8(c.x) | (frameSrgb8(c.y) << 8) | (frameSrgb8(c.z) << 16) | 0xff000000u;
+}
+
+void main() {
+  uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
+  if (id >= pc.size.x * pc.size.y) return;
+  ShadedHit h = shaded[id];
+  bool hit = (h.flags & kHitFlagHit) != 0u;
+  uint mode = pc.size.z;
+  if (mode >= kFrameAlbedo) {
+    uint c = 0xff000000u;
+    if (hit && mode == kFrameAlbedo) c = (h.albedo & 0x00ffffffu) | 0xff000000u;
+    if (hit && mode == kFrameNormals) {
+      vec3 n = clamp(h.normalT.xyz * 0.5 + 0.5, 0.0, 1.0);
+      uvec3 b = uvec3(n * 255.0 + 0.5);
+      c = b.x | (b.y << 8) | (b.z << 16) | 0xff000000u;
+    }
+    if (hit && mode == kFrameCascade)
+      c = kCascadeColours[(h.flags >> kHitCascadeShift) & 7u] | 0xff000000u;
+    picture[id] = c;
+    return;
+  }
+  vec3 direct = h.direct.xyz;
+  vec3 indirect = vec3(0.0);
+  bool probes = (pc.size.w & kFrameProbesBound) != 0u;
+  bool wantIndirect =
+      mode == kFrameIndirect || (mode == kFrameFinal && (pc.size.w & kFrameAddIndirect) != 0u);
+  if (hit && probes && wantIndirect) {
+    // The probe query of probeQueries (demo/gi_shading.cpp): the hit point, moved out along the
+    // normal as far as the shading pass started its shadow rays (direct.w), viewed from the ray.
+    TraceRay r = rays[id];
+    vec3 n = h.normalT.xyz;
+    vec3 x = r.originTMin.xyz + r.dirTMax.xyz * h.normalT.w + n * h.direct.w;
+    vec3 e = sdfstreamIrradiance(x, n, -r.dirTMax.xyz);
+    vec4 a = unpackAlbedo(h.albedo);
+    vec3 albedo = vec3(srgbDecode(a.x), srgbDecode(a.y), srgbDecode(a.z));
+    indirect = albedo * 0.3183098861837907 * e;
+  }
+  vec3 radiance = mode == kFrameDirect     ? direct
+                  : mode == kFrameIndirect ? indirect * pc.params.y
+                                           : direct + indirect;
+  picture[id] = packPicture(radiance);
+}

@@ -1,0 +1,102 @@
+// The GPU-composed picture (GiRenderer::renderPicture: rays, shading, per-pixel probe sampling
+// through the installable include, tone map, all on the device) against the host path it
+// replaces (shade → probeQueries → GiSystem::irradiance → composeFrame → toneMap), on the
+// demo_gi scene with GI on: every view mode, with the SDF and the raster primary.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "demo/frame_image.h"
+#include "demo/gi_shading.h"
+#include "tests/demo/demo_gi_scene.h"
+#include "tests/support/gpu_test.h"
+
+namespace sdfstream {
+namespace {
+
+class GpuPictureTest : public test::GpuTest {};
+
+// Values off by more than one level (rounding at a boundary, float order of the two paths), and
+// the largest difference.
+struct Difference {
+  std::size_t offByMore = 0;
+  int largest = 0;
+};
+Difference compare(const Image8& a, const Image8& b) {
+  Difference d;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    const int diff = std::abs(int(a.rgb[i]) - int(b.rgb[i]));
+    d.largest = std::max(d.largest, diff);
+    d.offByMore += diff > 1 ? 1 : 0;
+  }
+  return d;
+}
+
+// The host path's picture of each mode (viewer/view_picture.cpp's rules).
+Image8 hostPicture(std::uint32_t mode, const ShadedView& view, const HdrFrame& frame) {
+  const int w = frame.width, h = frame.height;
+  if (mode == gpu_shared::kFrameFinal) return toneMap(frame.final(), w, h, 0.0f);
+  if (mode == gpu_shared::kFrameDirect) return toneMap(frame.direct, w, h, 0.0f);
+  if (mode == gpu_shared::kFrameIndirect) return toneMap(frame.indirect, w, h, 2.0f);
+  Image8 out{w, h, std::vector<std::uint8_t>(std::size_t(w) * h * 3, 0)};
+  for (std::size_t p = 0; p < view.shaded.size(); ++p) {
+    const gpu_shared::ShadedHit& hit = view.shaded[p];
+    if (!(hit.flags & gpu_shared::kHitFlagHit)) continue;
+    if (mode == gpu_shared::kFrameAlbedo) {
+      for (int c = 0; c < 3; ++c) out.rgb[3 * p + c] = (hit.albedo >> (8 * c)) & 255u;
+    } else if (mode == gpu_shared::kFrameNormals) {
+      const glm::vec3 n = glm::clamp(glm::vec3(hit.normalT) * 0.5f + 0.5f, 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c) out.rgb[3 * p + c] = std::uint8_t(n[c] * 255.0f + 0.5f);
+    }
+  }
+  return out;
+}
+
+TEST_F(GpuPictureTest, MatchesTheHostPathInEveryMode) {
+  const TriangleScene triangles = test::demoGiTriangles();
+  const World world = meshToWorld(triangles, 0.0, ImportLimits{});
+  const CascadeImage cascade = buildCascade(world, cascadeOriginForWorld(world));
+  const CascadeStackImage image = stackImageOf(cascade);
+  const SceneLights lights = test::demoGiLights();
+  const Camera camera = test::demoGiCamera();
+  constexpr int kW = 96, kH = 72;
+  GiRendererOptions options;
+  options.settings.probes.raysPerProbe = 64;
+  options.settings.probes.spacingBricks = 2;
+  GiRenderer gi(ctx(), options, 1);
+  probe::ProbeFrameInputs inputs;
+  inputs.cameraWorld = camera.position;
+  inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
+  for (int f = 0; f < 8; ++f) gi.update(image, lights, inputs, std::uint64_t(f));
+
+  for (bool raster : {false, true}) {
+    gi.setPrimaryMesh(raster ? &triangles : nullptr);
+    const ShadedView view = gi.shade(camera, kW, kH, image, lights);
+    const HdrFrame frame = gi.finish(view);
+    ASSERT_GT(frame.hits, std::size_t(kW * kH / 2));
+    for (std::uint32_t mode :
+         {gpu_shared::kFrameFinal, gpu_shared::kFrameDirect, gpu_shared::kFrameIndirect,
+          gpu_shared::kFrameAlbedo, gpu_shared::kFrameNormals}) {
+      PictureSettings settings;
+      settings.mode = mode;
+      const Image8 gpu = gi.renderPicture(camera, kW, kH, image, lights, settings);
+      const Image8 host = hostPicture(mode, view, frame);
+      ASSERT_EQ(gpu.rgb.size(), host.rgb.size());
+      const Difference d = compare(gpu, host);
+      std::printf("%s primary, mode %u: %zu of %zu values off by more than 1 (largest %d)\n",
+                  raster ? "raster" : "SDF", mode, d.offByMore, gpu.rgb.size(), d.largest);
+      // Rays made on the GPU in float (the host's in double) may tip a silhouette pixel.
+      EXPECT_LE(d.offByMore, gpu.rgb.size() / 500) << "mode " << mode;
+    }
+    // The G key: the final picture without the indirect light is the direct picture.
+    PictureSettings noIndirect;
+    noIndirect.indirect = false;
+    const Difference d = compare(gi.renderPicture(camera, kW, kH, image, lights, noIndirect),
+                                 toneMap(frame.direct, kW, kH, 0.0f));
+    EXPECT_LE(d.offByMore, std::size_t(kW * kH * 3 / 500));
+  }
+}
+
+}  // namespace
+}  // namespace sdfstream
