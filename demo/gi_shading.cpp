@@ -164,7 +164,8 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
                               std::span<const gpu_shared::GpuLight> lights,
                               const gpu_shared::GpuSky& sky, const ShadingSettings& settings,
                               double voxelSize0, const ObjectScene* objects,
-                              std::span<const gpu_shared::PrimarySurface> surfaces) {
+                              std::span<const gpu_shared::PrimarySurface> surfaces,
+                              const gpu::Buffer* deviceSurfaces) {
   assert(settings.direct != gpu_shared::kShadeDirectCache || lightRadiance);
   assert(surfaces.empty() || surfaces.size() == count);
   // Every earlier batch was waited for: the host-visible buffers are free to rewrite.
@@ -179,7 +180,7 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
   gpu_shared::ShadePushConstants pc =
       shadePushConstants(settings, count, lights.size(), scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
-  if (surfaceBytes) pc.options.z = gpu_shared::kShadePrimaryGiven;
+  if (surfaceBytes || deviceSurfaces) pc.options.z = gpu_shared::kShadePrimaryGiven;
   std::vector<const gpu::Buffer*> bindings = {&rays,
                                               &shaded,
                                               &scene.pageTables(),
@@ -192,7 +193,9 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
   for (const gpu::Buffer* o :
        objects && objects->active() ? objects->buffers() : noObjects_.buffers())
     bindings.push_back(o);
-  bindings.push_back(surfaceBytes ? &surfaces_.device() : &noSurfaces_);
+  bindings.push_back(deviceSurfaces ? deviceSurfaces
+                     : surfaceBytes ? &surfaces_.device()
+                                    : &noSurfaces_);
   batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
                  shade_detail::spread(pc.counts.x));
 }
@@ -333,9 +336,18 @@ struct GiRenderer::PicturePasses {
     readback = gpu::Buffer(context, pixels * 4, gpu::BufferKind::Readback);
     capacity = pixels;
   }
+  // The raster primary's visibility buffer and resolved surfaces (allocated on first use).
+  void reserveRaster(std::size_t pixels) {
+    if (pixels <= rasterCapacity) return;
+    visibility = gpu::Buffer(context, pixels * 12, gpu::BufferKind::DeviceLocal);
+    surfaces = gpu::Buffer(context, pixels * sizeof(gpu_shared::PrimarySurface),
+                           gpu::BufferKind::DeviceLocal);
+    rasterCapacity = pixels;
+  }
   gpu::Context& context;
   gpu::ComputePipeline rays, compose;
-  gpu::Buffer rayBuffer, shaded, picture, readback;
+  gpu::Buffer rayBuffer, shaded, picture, readback, visibility, surfaces;
+  std::size_t rasterCapacity = 0;
   std::size_t capacity = 0;
 };
 
@@ -458,17 +470,7 @@ Image8 GiRenderer::renderPicture(const Camera& camera, int width, int height,
   const std::size_t pixels = std::size_t(width) * std::size_t(height);
   if (!picture_) picture_ = std::make_unique<PicturePasses>(context_);
   picture_->reserve(pixels);
-  std::vector<gpu_shared::PrimarySurface> surfaces;
-  times_.rasterMilliseconds = 0.0;
-  if (raster_) {
-    const VisibilityImage visible =
-        raster_->render(viewRasterPush(camera, width, height), width, height);
-    times_.rasterMilliseconds = raster_->lastMilliseconds();
-    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
-    surfaces =
-        resolvePrimarySurfaces(raster_->scene(), raster_->pyramid(), visible, camera.position,
-                               pixelAngle, image.cascade0MinWorld, image.voxelSize0);
-  }
+  if (raster_) picture_->reserveRaster(pixels);
   gpu_shared::CameraRaysPush rays =
       cameraRaysPush(camera, width, height, image.toStack(camera.position));
   if (!image.params.empty()) {  // cascades are nested: the coarsest window holds the others
@@ -491,17 +493,25 @@ Image8 GiRenderer::renderPicture(const Camera& camera, int width, int height,
     bindings.resize(bindings.size() + GiSystem::kSampleBindingCount, &p.shaded);  // never read
   }
   gpu::CommandBatch batch = context_.beginBatch();
+  if (raster_) {  // the surfaces stay on the device: rasterized, then resolved there
+    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
+    raster_->record(batch, viewRasterPush(camera, width, height), width, height, p.visibility);
+    raster_->recordResolve(batch, width, height, camera.position, pixelAngle,
+                           image.cascade0MinWorld, image.voxelSize0, p.visibility, p.surfaces);
+  }
   batch.dispatch("camera_rays", p.rays, {&p.rayBuffer}, &rays, sizeof rays,
                  shade_detail::spread(std::uint32_t(pixels)));
   shade_.record(batch, scene(), lightRadiance(), p.rayBuffer, p.shaded, pixels,
                 toGpu(lights.lights, image), toGpu(lights.sky), options_.shading, image.voxelSize0,
-                objectScene(), surfaces);
+                objectScene(), {}, raster_ ? &p.surfaces : nullptr);
   batch.dispatch("frame_compose", p.compose, bindings, &compose, sizeof compose,
                  shade_detail::spread(std::uint32_t(pixels)));
   batch.copy(p.picture, p.readback, pixels * 4);
   batch.submitAndWait();
-  times_.shadeMilliseconds = times_.sampleMilliseconds = 0.0;
+  times_.shadeMilliseconds = times_.sampleMilliseconds = times_.rasterMilliseconds = 0.0;
   for (const gpu::PassTiming& t : batch.timings()) {
+    if (t.name == "raster primary" || t.name == "raster_resolve")
+      times_.rasterMilliseconds += t.milliseconds;
     if (t.name == "frame_compose") times_.sampleMilliseconds += t.milliseconds;
     if (t.name == "camera_rays" || t.name == "shade_primary")
       times_.shadeMilliseconds += t.milliseconds;

@@ -86,14 +86,16 @@ class PrimaryShadePass {
                                          const ObjectScene* objects = nullptr,
                                          std::span<const gpu_shared::PrimarySurface> surfaces = {});
   // Records the same pass into `batch` over `count` rays already on the device (`rays`, a view
-  // made there), writing `shaded` on the device: nothing is read back. Until the batch has
+  // made there), writing `shaded` on the device: nothing is read back. deviceSurfaces: the
+  // given surfaces already on the device (one a ray; instead of `surfaces`). Until the batch has
   // completed, no other run() or record() of this pass (they share its staging buffers).
   void record(gpu::CommandBatch& batch, const GpuStackScene& scene,
               const gpu::Buffer* lightRadiance, const gpu::Buffer& rays, const gpu::Buffer& shaded,
               std::size_t count, std::span<const gpu_shared::GpuLight> lights,
               const gpu_shared::GpuSky& sky, const ShadingSettings& settings, double voxelSize0,
               const ObjectScene* objects = nullptr,
-              std::span<const gpu_shared::PrimarySurface> surfaces = {});
+              std::span<const gpu_shared::PrimarySurface> surfaces = {},
+              const gpu::Buffer* deviceSurfaces = nullptr);
   double lastMilliseconds() const { return milliseconds_; }
 
  private:

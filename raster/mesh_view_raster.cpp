@@ -38,6 +38,45 @@ gpu::Buffer uploadIndices(gpu::Context& ctx, const TriangleScene& scene) {
   return b;
 }
 
+template <typename T>
+gpu::Buffer uploadVector(gpu::Context& ctx, const std::vector<T>& v) {
+  gpu::Buffer b(ctx, std::max<std::size_t>(v.size() * sizeof(T), 4), gpu::BufferKind::DeviceLocal);
+  if (!v.empty()) b.upload(v.data(), v.size() * sizeof(T));
+  return b;
+}
+
+glm::vec4 uvColumns(const UvTransform& t) {
+  return glm::vec4(t.column0.x, t.column0.y, t.column1.x, t.column1.y);
+}
+
+// Every level of every texture as RGBA8 words, level 0 first (the texture itself), then the
+// pyramid's; a texture that is not a whole image gets no levels (white).
+void packTextures(const TriangleScene& scene, const TexturePyramid& pyramid,
+                  std::vector<gpu_shared::RasterTextureGpu>& textures,
+                  std::vector<gpu_shared::RasterLevelGpu>& levels,
+                  std::vector<std::uint32_t>& texels) {
+  auto addLevel = [&](const Texture& t) {
+    levels.push_back({glm::uvec4(std::uint32_t(texels.size()), std::uint32_t(t.width),
+                                 std::uint32_t(t.height), 0u)});
+    const std::size_t first = texels.size();
+    texels.resize(first + t.rgba.size() / 4);
+    std::memcpy(texels.data() + first, t.rgba.data(), t.rgba.size());
+  };
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const Texture& t = scene.textures[i];
+    gpu_shared::RasterTextureGpu entry{glm::uvec4(std::uint32_t(levels.size()), 0u, 0u, 0u)};
+    const bool whole = t.width > 0 && t.height > 0 &&
+                       t.rgba.size() == std::size_t(t.width) * std::size_t(t.height) * 4;
+    if (whole) {
+      addLevel(t);
+      if (i < pyramid.levels.size())
+        for (const Texture& level : pyramid.levels[i]) addLevel(level);
+      entry.levels.y = std::uint32_t(levels.size()) - entry.levels.x;
+    }
+    textures.push_back(entry);
+  }
+}
+
 }  // namespace
 
 MeshViewRaster::MeshViewRaster(gpu::Context& ctx, const TriangleScene& scene)
@@ -48,7 +87,73 @@ MeshViewRaster::MeshViewRaster(gpu::Context& ctx, const TriangleScene& scene)
               VisibilityStages{gpu::ShaderId::view_visibility_vs, gpu::ShaderId::view_visibility_fs,
                                sizeof(gpu_shared::ViewRasterPush), true, "raster primary"}),
       positions_(uploadPositions(ctx, scene)),
-      indices_(uploadIndices(ctx, scene)) {}
+      indices_(uploadIndices(ctx, scene)),
+      resolve_(ctx, gpu::ShaderId::raster_resolve,
+               gpu::PipelineDesc{10, sizeof(gpu_shared::RasterResolvePush), glm::uvec3(64, 1, 1)}) {
+  const std::size_t vertices = scene.positions.size();
+  const bool set0 = scene.uvs.size() == vertices, set1 = scene.uvs1.size() == vertices;
+  uvSets_ = (set0 ? 1u : 0u) | (set1 ? 2u : 0u);
+  std::vector<glm::vec4> uvs(vertices, glm::vec4(0.0f));
+  for (std::size_t i = 0; i < vertices; ++i)
+    uvs[i] =
+        glm::vec4(set0 ? scene.uvs[i] : glm::vec2(0.0f), set1 ? scene.uvs1[i] : glm::vec2(0.0f));
+  uvs_ = uploadVector(ctx, uvs);
+  std::vector<std::uint32_t> triangleMaterial(scene.triangles.size(), 0u);
+  for (std::size_t t = 0; t < triangleMaterial.size() && t < scene.triangleMaterial.size(); ++t)
+    triangleMaterial[t] =
+        scene.triangleMaterial[t] < scene.materials.size() ? scene.triangleMaterial[t] : 0u;
+  triangleMaterial_ = uploadVector(ctx, triangleMaterial);
+  std::vector<gpu_shared::RasterMaterialGpu> materials;
+  for (const Material& m : scene.materials) {
+    gpu_shared::RasterMaterialGpu g{};
+    g.baseColorFactor = m.baseColorFactor;
+    g.emissive = glm::vec4(m.emissive, 0.0f);
+    g.textures =
+        glm::ivec4(m.baseColorTexture, m.baseColorTexCoord, m.emissiveTexture, m.emissiveTexCoord);
+    g.baseUv = uvColumns(m.baseColorUv);
+    g.emissiveUv = uvColumns(m.emissiveUv);
+    g.uvOffsets = glm::vec4(m.baseColorUv.offset, m.emissiveUv.offset);
+    materials.push_back(g);
+  }
+  if (materials.empty()) materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), glm::ivec4(-1)});
+  materials_ = uploadVector(ctx, materials);
+  std::vector<gpu_shared::RasterTextureGpu> textures;
+  std::vector<gpu_shared::RasterLevelGpu> levels;
+  std::vector<std::uint32_t> texels;
+  packTextures(scene, pyramid_, textures, levels, texels);
+  textures_ = uploadVector(ctx, textures);
+  levels_ = uploadVector(ctx, levels);
+  texels_ = uploadVector(ctx, texels);
+}
+
+void MeshViewRaster::record(gpu::CommandBatch& batch, const gpu_shared::ViewRasterPush& view,
+                            int width, int height, const gpu::Buffer& visibility) {
+  const VisibilityView whole{0, 0, std::uint32_t(width), std::uint32_t(height), &view};
+  batch.record("raster primary", [&](VkCommandBuffer cb) {
+    raster_.record(cb, positions_, indices_, std::uint32_t(scene_->triangles.size()),
+                   std::uint32_t(width), std::uint32_t(height), {&whole, 1}, visibility);
+  });
+}
+
+void MeshViewRaster::recordResolve(gpu::CommandBatch& batch, int width, int height,
+                                   const glm::dvec3& eye, double pixelAngle,
+                                   const glm::dvec3& stackOrigin, double voxelSize,
+                                   const gpu::Buffer& visibility, const gpu::Buffer& surfaces) {
+  gpu_shared::RasterResolvePush push{};
+  push.eye = glm::vec4(glm::vec3(eye), float(pixelAngle));
+  push.stackOrigin = glm::vec4(glm::vec3(stackOrigin), float(1.0 / voxelSize));
+  push.size = glm::uvec4(std::uint32_t(width), std::uint32_t(height),
+                         std::uint32_t(scene_->triangles.size()), uvSets_);
+  const std::uint32_t pixels = std::uint32_t(width) * std::uint32_t(height);
+  // Rows of 64 x 16384 threads, as the shading pass's.
+  constexpr std::uint32_t kRow = 64u * 16384u;
+  const glm::uvec3 threads =
+      pixels <= kRow ? glm::uvec3(pixels, 1, 1) : glm::uvec3(kRow, (pixels + kRow - 1) / kRow, 1);
+  batch.dispatch("raster_resolve", resolve_,
+                 {&visibility, &positions_, &indices_, &uvs_, &triangleMaterial_, &materials_,
+                  &textures_, &levels_, &texels_, &surfaces},
+                 &push, sizeof push, threads);
+}
 
 VisibilityImage MeshViewRaster::render(const gpu_shared::ViewRasterPush& view, int width,
                                        int height) {

@@ -15,6 +15,8 @@
 #include <glm/glm.hpp>
 
 #include "gpu/buffer.h"
+#include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
 #include "raster/visibility_raster.h"
 #include "shaders/shared/shade_layout.h"
 #include "shaders/shared/view_raster_layout.h"
@@ -40,6 +42,16 @@ class MeshViewRaster {
   // Rasterizes one view (clip from world: shared/view_raster_layout.h) at width x height;
   // blocking (the resolve reads the result on the host).
   VisibilityImage render(const gpu_shared::ViewRasterPush& view, int width, int height);
+
+  // The device-resident path: records the view's visibility buffer into `visibility`
+  // (VisibilityRaster::outputBytes), then its surfaces into `surfaces` (one PrimarySurface a
+  // pixel, as resolvePrimarySurfaces with the same arguments, in float: raster_resolve.comp).
+  // Nothing is read back; the buffers must outlive the batch.
+  void record(gpu::CommandBatch& batch, const gpu_shared::ViewRasterPush& view, int width,
+              int height, const gpu::Buffer& visibility);
+  void recordResolve(gpu::CommandBatch& batch, int width, int height, const glm::dvec3& eye,
+                     double pixelAngle, const glm::dvec3& stackOrigin, double voxelSize,
+                     const gpu::Buffer& visibility, const gpu::Buffer& surfaces);
   // GPU time of the last render's draw and copies (0 without timestamps).
   double lastMilliseconds() const { return lastMilliseconds_; }
   const TriangleScene& scene() const { return *scene_; }
@@ -52,6 +64,10 @@ class MeshViewRaster {
   TexturePyramid pyramid_;
   VisibilityRaster raster_;
   gpu::Buffer positions_, indices_, readback_;
+  // The materials on the device for raster_resolve.comp (uploaded on construction).
+  gpu::ComputePipeline resolve_;
+  gpu::Buffer uvs_, triangleMaterial_, materials_, textures_, levels_, texels_;
+  std::uint32_t uvSets_ = 0;  // bit 0: UV set 0 present, bit 1: set 1
   double lastMilliseconds_ = 0.0;
 };
 

@@ -16,10 +16,41 @@ struct ViewRasterPush {
   vec4 clipFromWorld[4];  // rows: clip_i = dot(clipFromWorld[i], vec4(world position, 1))
 };
 
+// The visibility buffer resolved on the device (raster_resolve.comp, MeshViewRaster::
+// recordResolve): the scene's materials and textures in storage buffers, looked up as
+// world/triangle_scene.cpp's sampleAlbedo / sampleEmission do with a TexturePyramid (its CPU
+// reference, resolvePrimarySurfaces).
+struct RasterMaterialGpu {
+  vec4 baseColorFactor;  // linear RGBA
+  vec4 emissive;         // rgb linear; w unused
+  ivec4 textures;        // x: base colour texture (-1: none), y: its UV set (0/1; other: none),
+                         // z: emissive texture, w: its UV set
+  vec4 baseUv;           // the base colour tap's UV transform: column0.xy, column1.xy
+  vec4 emissiveUv;       // the emissive tap's: column0.xy, column1.xy
+  vec4 uvOffsets;        // xy: base colour offset, zw: emissive offset
+};
+
+// A texture: levels[first .. first + count) of RasterLevelGpu (level 0 the texture itself).
+// count 0: not a usable image (white, as sampleTexture treats it).
+struct RasterTextureGpu {
+  uvec4 levels;  // x: first level, y: level count, zw unused
+};
+struct RasterLevelGpu {
+  uvec4 info;  // x: first texel (RGBA8 sRGB words of the texel buffer), y: width, z: height
+};
+
+struct RasterResolvePush {
+  vec4 eye;          // xyz: the camera, world space; w: the pixel's angle (radians)
+  vec4 stackOrigin;  // xyz: the stack frame's origin, world space; w: 1 / voxel size
+  uvec4 size;        // x: width, y: height, z: triangles, w: bit 0 UV set 0 present, bit 1 set 1
+};
+
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ViewRasterPush) == 64);
+static_assert(sizeof(sdfstream::gpu_shared::RasterMaterialGpu) == 96);
+static_assert(sizeof(sdfstream::gpu_shared::RasterResolvePush) == 48);
 #endif
 
 #endif
