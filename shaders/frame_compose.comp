@@ -37,12 +37,42 @@ uint packPicture(vec3 linear) {
   return frameSrgb8(c.x) | (frameSrgb8(c.y) << 8) | (frameSrgb8(c.z) << 16) | 0xff000000u;
 }
 
+// The state of the probe nearest the hit in the finest volume that holds it (the probe field's
+// own grid math, shaders/probe_field.glsl), as a colour.
+uint probeStateColour(uint id, ShadedHit h) {
+  const uint kStateColours[4] = uint[4](0xff505050u, 0xffe6a03cu, 0xff50c850u, 0xff3c3ce6u);
+  TraceRay r = rays[id];
+  vec3 x = r.originTMin.xyz + r.dirTMax.xyz * h.normalT.w + h.normalT.xyz * h.direct.w;
+  for (uint c = 0u; c < sdfstreamProbeFrame.counts.x; ++c) {
+    ProbeVolume v = sdfstreamProbeVolumes[c];
+    vec3 g = (x - v.originSpacing.xyz) / v.originSpacing.w;
+    vec3 last = vec3(v.countsRays.xyz) - 1.0;
+    if (any(lessThan(g, vec3(0.0))) || any(greaterThan(g, last))) continue;
+    uint s = probeStorageIndex(v, ivec3(floor(g + 0.5)));
+    uint state = probeStateOf(sdfstreamProbeData[c * sdfstreamProbeFrame.counts.y + s]);
+    return kStateColours[min(state, 3u)];
+  }
+  return 0xff000000u;
+}
+
 void main() {
   uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64u;
   if (id >= pc.size.x * pc.size.y) return;
   ShadedHit h = shaded[id];
   bool hit = (h.flags & kHitFlagHit) != 0u;
   uint mode = pc.size.z;
+  if (mode == kFrameResidency) {
+    uint c = 0xff000000u;
+    if (hit) c = (h.flags & kHitFlagFellBack) != 0u ? 0xff1e8cf0u : 0xff50c850u;
+    else if ((h.flags & kHitFlagMissingData) != 0u) c = 0xff3c3ce6u;
+    picture[id] = c;
+    return;
+  }
+  if (mode == kFrameProbeStates) {
+    picture[id] = hit && (pc.size.w & kFrameProbesBound) != 0u ? probeStateColour(id, h)
+                                                               : 0xff000000u;
+    return;
+  }
   if (mode >= kFrameAlbedo) {
     uint c = 0xff000000u;
     if (hit && mode == kFrameAlbedo) c = (h.albedo & 0x00ffffffu) | 0xff000000u;

@@ -29,6 +29,10 @@ std::string_view viewModeName(ViewMode mode) {
       return "normals";
     case ViewMode::Cascade:
       return "cascade";
+    case ViewMode::Residency:
+      return "residency";
+    case ViewMode::ProbeStates:
+      return "probe states";
     case ViewMode::Count:
       break;
   }
@@ -54,13 +58,22 @@ Image8 viewPicture(ViewMode mode, const ShadedView& view, const HdrFrame& frame,
   const std::size_t pixels = std::min(view.shaded.size(), std::size_t(w) * std::size_t(h));
   for (std::size_t p = 0; p < pixels; ++p) {
     const gpu_shared::ShadedHit& hit = view.shaded[p];
-    if (!(hit.flags & gpu_shared::kHitFlagHit)) continue;
+    if (mode == ViewMode::Residency && !(hit.flags & gpu_shared::kHitFlagHit) &&
+        (hit.flags & gpu_shared::kHitFlagMissingData)) {
+      image.rgb[3 * p + 0] = 230;
+      image.rgb[3 * p + 1] = 60;
+      image.rgb[3 * p + 2] = 60;
+    }
+    if (!(hit.flags & gpu_shared::kHitFlagHit) || mode == ViewMode::ProbeStates) continue;
     glm::u8vec3 c(0);
     if (mode == ViewMode::Albedo) {
       c = {hit.albedo & 255u, (hit.albedo >> 8) & 255u, (hit.albedo >> 16) & 255u};
     } else if (mode == ViewMode::Normals) {
       const glm::vec3 n = glm::clamp(glm::vec3(hit.normalT) * 0.5f + 0.5f, 0.0f, 1.0f);
       c = glm::u8vec3(n * 255.0f + 0.5f);
+    } else if (mode == ViewMode::Residency) {
+      c = hit.flags & gpu_shared::kHitFlagFellBack ? glm::u8vec3(240, 140, 30)
+                                                   : glm::u8vec3(80, 200, 80);
     } else {
       c = kCascadeColours[(hit.flags >> gpu_shared::kHitCascadeShift) & 7u];
     }

@@ -11,13 +11,25 @@
 
 namespace sdfstream::viewer {
 
-enum class ViewMode { Final, Direct, Indirect, Albedo, Normals, Cascade, Count };
+enum class ViewMode {
+  Final,
+  Direct,
+  Indirect,
+  Albedo,
+  Normals,
+  Cascade,
+  Residency,
+  ProbeStates,
+  Count
+};
 static_assert(int(ViewMode::Final) == int(gpu_shared::kFrameFinal) &&
               int(ViewMode::Direct) == int(gpu_shared::kFrameDirect) &&
               int(ViewMode::Indirect) == int(gpu_shared::kFrameIndirect) &&
               int(ViewMode::Albedo) == int(gpu_shared::kFrameAlbedo) &&
               int(ViewMode::Normals) == int(gpu_shared::kFrameNormals) &&
-              int(ViewMode::Cascade) == int(gpu_shared::kFrameCascade));
+              int(ViewMode::Cascade) == int(gpu_shared::kFrameCascade) &&
+              int(ViewMode::Residency) == int(gpu_shared::kFrameResidency) &&
+              int(ViewMode::ProbeStates) == int(gpu_shared::kFrameProbeStates));
 // The Indirect view's extra brightness (as fly's indirect layer).
 inline constexpr float kIndirectStops = 2.0f;
 std::string_view viewModeName(ViewMode mode);
@@ -28,7 +40,10 @@ ViewMode nextViewMode(ViewMode mode);
 // The picture of `mode`: Final (direct + indirect, or direct only when `indirectOn` is false),
 // Direct, Indirect (2 stops brighter, as fly's layers) tone-mapped at `exposureStops`; Albedo
 // (the hit voxel's sRGB albedo), Normals (n * 0.5 + 0.5), Cascade (the cascade each primary ray
-// hit in, one colour each; misses black) from the shaded hits.
+// hit in, one colour each; misses black), Residency (green: hit on streamed bricks of its own
+// cascade, orange: sent to a coarser cascade by a page not streamed yet, red: a miss on missing
+// data) from the shaded hits. ProbeStates needs the probe field on the device: the GPU picture
+// only (black here).
 Image8 viewPicture(ViewMode mode, const ShadedView& view, const HdrFrame& frame, bool indirectOn,
                    float exposureStops);
 

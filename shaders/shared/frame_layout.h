@@ -35,6 +35,11 @@ SDF_CONST uint kFrameIndirect = 2u;  // indirect light only, params.y times brig
 SDF_CONST uint kFrameAlbedo = 3u;    // the hit's sRGB albedo as stored
 SDF_CONST uint kFrameNormals = 4u;   // n · 0.5 + 0.5
 SDF_CONST uint kFrameCascade = 5u;   // the cascade the primary hit lies in, one colour each
+SDF_CONST uint kFrameResidency = 6u;  // green: hit on streamed bricks of its own cascade;
+                                      // orange: a page not streamed yet sent the ray to a
+                                      // coarser cascade; red: a miss on missing data
+SDF_CONST uint kFrameProbeStates = 7u;  // the state of the probe nearest the hit, finest volume:
+                                        // grey off, blue sleeping, green awake, red vigilant
 
 // FrameComposePush.size.w bits.
 SDF_CONST uint kFrameProbesBound = 1u;  // bindings 3-10 hold a probe field (GI on)

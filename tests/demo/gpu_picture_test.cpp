@@ -45,6 +45,12 @@ Image8 hostPicture(std::uint32_t mode, const ShadedView& view, const HdrFrame& f
     if (!(hit.flags & gpu_shared::kHitFlagHit)) continue;
     if (mode == gpu_shared::kFrameAlbedo) {
       for (int c = 0; c < 3; ++c) out.rgb[3 * p + c] = (hit.albedo >> (8 * c)) & 255u;
+    } else if (mode == gpu_shared::kFrameResidency) {
+      const bool fellBack = hit.flags & gpu_shared::kHitFlagFellBack;
+      const std::uint8_t c[3] = {std::uint8_t(fellBack ? 240 : 80),
+                                 std::uint8_t(fellBack ? 140 : 200),
+                                 std::uint8_t(fellBack ? 30 : 80)};
+      for (int k = 0; k < 3; ++k) out.rgb[3 * p + k] = c[k];
     } else if (mode == gpu_shared::kFrameNormals) {
       const glm::vec3 n = glm::clamp(glm::vec3(hit.normalT) * 0.5f + 0.5f, 0.0f, 1.0f);
       for (int c = 0; c < 3; ++c) out.rgb[3 * p + c] = std::uint8_t(n[c] * 255.0f + 0.5f);
@@ -77,7 +83,7 @@ TEST_F(GpuPictureTest, MatchesTheHostPathInEveryMode) {
     ASSERT_GT(frame.hits, std::size_t(kW * kH / 2));
     for (std::uint32_t mode :
          {gpu_shared::kFrameFinal, gpu_shared::kFrameDirect, gpu_shared::kFrameIndirect,
-          gpu_shared::kFrameAlbedo, gpu_shared::kFrameNormals}) {
+          gpu_shared::kFrameAlbedo, gpu_shared::kFrameNormals, gpu_shared::kFrameResidency}) {
       PictureSettings settings;
       settings.mode = mode;
       const Image8 gpu = gi.renderPicture(camera, kW, kH, image, lights, settings);
@@ -89,6 +95,29 @@ TEST_F(GpuPictureTest, MatchesTheHostPathInEveryMode) {
       // Rays made on the GPU in float (the host's in double) may tip a silhouette pixel.
       EXPECT_LE(d.offByMore, gpu.rgb.size() / 500) << "mode " << mode;
     }
+    // Probe states: every hit pixel shows one of the four state colours.
+    PictureSettings states;
+    states.mode = gpu_shared::kFrameProbeStates;
+    const Image8 stateImage = gi.renderPicture(camera, kW, kH, image, lights, states);
+    const glm::u8vec3 palette[4] = {{80, 80, 80}, {60, 160, 230}, {80, 200, 80}, {230, 60, 60}};
+    std::size_t counted[4] = {}, other = 0;
+    for (std::size_t p = 0; p < view.shaded.size(); ++p) {
+      if (!(view.shaded[p].flags & gpu_shared::kHitFlagHit)) continue;
+      const glm::u8vec3 c(stateImage.rgb[3 * p], stateImage.rgb[3 * p + 1],
+                          stateImage.rgb[3 * p + 2]);
+      int k = 0;
+      while (k < 4 && palette[k] != c) ++k;
+      if (k < 4)
+        ++counted[k];
+      else
+        ++other;
+    }
+    std::printf(
+        "probe states over hit pixels: off %zu, sleeping %zu, awake %zu, vigilant %zu, "
+        "other %zu\n",
+        counted[0], counted[1], counted[2], counted[3], other);
+    EXPECT_LE(other, frame.hits / 100);  // hits outside every volume: black
+    EXPECT_GT(counted[1] + counted[2] + counted[3], frame.hits / 2);
     // The G key: the final picture without the indirect light is the direct picture.
     PictureSettings noIndirect;
     noIndirect.indirect = false;
