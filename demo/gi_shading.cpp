@@ -324,8 +324,9 @@ struct GiRenderer::PicturePasses {
         rays(context, gpu::ShaderId::camera_rays,
              gpu::PipelineDesc{1, sizeof(gpu_shared::CameraRaysPush), glm::uvec3(64, 1, 1)}),
         compose(context, gpu::ShaderId::frame_compose,
-                gpu::PipelineDesc{3 + GiSystem::kSampleBindingCount,
-                                  sizeof(gpu_shared::FrameComposePush), glm::uvec3(64, 1, 1)}) {}
+                gpu::PipelineDesc{3 + GiSystem::kSampleBindingCount + 8,
+                                  sizeof(gpu_shared::FrameComposePush), glm::uvec3(64, 1, 1)}),
+        noObjects(context) {}
   void reserve(std::size_t pixels) {
     if (pixels <= capacity) return;
     rayBuffer =
@@ -346,6 +347,7 @@ struct GiRenderer::PicturePasses {
   }
   gpu::Context& context;
   gpu::ComputePipeline rays, compose;
+  NoObjectsBindings noObjects;  // bound at 11-18 when there are no objects
   gpu::Buffer rayBuffer, shaded, picture, readback, visibility, surfaces;
   std::size_t rasterCapacity = 0;
   std::size_t capacity = 0;
@@ -492,6 +494,10 @@ Image8 GiRenderer::renderPicture(const Camera& camera, int width, int height,
   } else {
     bindings.resize(bindings.size() + GiSystem::kSampleBindingCount, &p.shaded);  // never read
   }
+  const ObjectScene* objects = objectScene();
+  for (const gpu::Buffer* o :
+       objects && objects->active() ? objects->buffers() : p.noObjects.buffers())
+    bindings.push_back(o);
   gpu::CommandBatch batch = context_.beginBatch();
   if (raster_) {  // the surfaces stay on the device: rasterized, then resolved there
     const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;

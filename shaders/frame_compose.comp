@@ -6,7 +6,8 @@
 // A = 255). Debug modes write the albedo, normals or hit cascade instead. The CPU path it
 // replaces (probeQueries, GiSystem::irradiance, composeFrame, toneMap) is its reference.
 // Bindings: 0 rays, 1 shaded hits, 2 picture (written), 3-10 the probe field
-// (GiSystem::sampleBuffers; with GI off any buffers, never read without kFrameProbesBound).
+// (GiSystem::sampleBuffers; with GI off any buffers, never read without kFrameProbesBound),
+// 11-18 the moving objects (shaders/object_bindings.glsl; zero instances when none).
 #extension GL_GOOGLE_include_directive : require
 
 #define SDFSTREAM_PROBE_BINDING 3
@@ -22,6 +23,28 @@ layout(std430, binding = 1) readonly buffer Shaded { ShadedHit shaded[]; };
 layout(std430, binding = 2) writeonly buffer Picture { uint picture[]; };
 
 layout(push_constant) uniform Push { FrameComposePush pc; };
+
+#define OBJ_BINDING_BASE 11
+#include "shaders/object_bindings.glsl"
+
+// The objects listed in the macro region holding the hit, in the finest region cascade that
+// holds it (as objTraceRegions finds it, shaders/object_trace.glsl), as a colour.
+uint objectRegionColour(uint id, ShadedHit h) {
+  if ((h.flags & kShadeFlagObject) != 0u) return 0xffe6e6e6u;
+  if (OBJ_FRAME.counts.x == 0u) return 0xff404040u;  // no objects: no region lists any
+  TraceRay r = rays[id];
+  vec3 x = r.originTMin.xyz + r.dirTMax.xyz * h.normalT.w;
+  for (uint c = 0u; c < OBJ_FRAME.counts.y; ++c) {
+    vec4 ro = OBJ_FRAME.regionOrigin[c];
+    vec3 q = (x - ro.xyz) / ro.w;
+    if (any(lessThan(q, vec3(0.0))) || any(greaterThan(q, vec3(8.0)))) continue;
+    ivec3 cell = clamp(ivec3(floor(q)), ivec3(0), ivec3(7));
+    uint count = OBJ_REGION(c * 512u + uint(cell.x) + 8u * (uint(cell.y) + 8u * uint(cell.z))).count;
+    return count == 0u ? 0xff404040u : count == 1u ? 0xff3cdce6u : count < 4u ? 0xff28a0f0u
+                                                                              : 0xff3c3ce6u;
+  }
+  return 0xff000000u;
+}
 
 // One colour per cascade (as the viewer's legend): red, orange, yellow, green, cyan, blue,
 // violet, white.
@@ -66,6 +89,10 @@ void main() {
     if (hit) c = (h.flags & kHitFlagFellBack) != 0u ? 0xff1e8cf0u : 0xff50c850u;
     else if ((h.flags & kHitFlagMissingData) != 0u) c = 0xff3c3ce6u;
     picture[id] = c;
+    return;
+  }
+  if (mode == kFrameObjectRegions) {
+    picture[id] = hit ? objectRegionColour(id, h) : 0xff000000u;
     return;
   }
   if (mode == kFrameProbeStates) {

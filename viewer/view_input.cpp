@@ -25,7 +25,8 @@ constexpr Binding kBindings[] = {
     {Action::Screenshot, "F12", "write the next frame to OUT/screenshot-NNNN.png"},
     {Action::ToggleGi, "G", "indirect light on/off (the probes keep updating)"},
     {Action::NextView, "V",
-     "view: final, direct, indirect, albedo, normals, cascade, residency, probe states"},
+     "view: final, direct, indirect, albedo, normals, cascade, residency, probe states, "
+     "object regions"},
     {Action::ToggleHud, "H", "HUD on/off"},
     {Action::SunLeft, "LEFT", "sun azimuth -5 degrees"},
     {Action::SunRight, "RIGHT", "sun azimuth +5 degrees"},

@@ -25,7 +25,8 @@ enum class Action : std::uint8_t {
   Reset,       // the camera back to where it started
   Screenshot,  // the next presented frame to OUT/screenshot-NNNN.png
   ToggleGi,    // probe updates and indirect light on/off
-  NextView,    // final, direct, indirect, albedo, normals, cascade, residency, probe states
+  NextView,    // final, direct, indirect, albedo, normals, cascade, residency, probe states,
+               // object regions
   ToggleHud,
   SunLeft,
   SunRight,

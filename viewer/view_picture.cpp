@@ -33,6 +33,8 @@ std::string_view viewModeName(ViewMode mode) {
       return "residency";
     case ViewMode::ProbeStates:
       return "probe states";
+    case ViewMode::ObjectRegions:
+      return "object regions";
     case ViewMode::Count:
       break;
   }
@@ -64,7 +66,9 @@ Image8 viewPicture(ViewMode mode, const ShadedView& view, const HdrFrame& frame,
       image.rgb[3 * p + 1] = 60;
       image.rgb[3 * p + 2] = 60;
     }
-    if (!(hit.flags & gpu_shared::kHitFlagHit) || mode == ViewMode::ProbeStates) continue;
+    if (!(hit.flags & gpu_shared::kHitFlagHit) || mode == ViewMode::ProbeStates ||
+        mode == ViewMode::ObjectRegions)
+      continue;
     glm::u8vec3 c(0);
     if (mode == ViewMode::Albedo) {
       c = {hit.albedo & 255u, (hit.albedo >> 8) & 255u, (hit.albedo >> 16) & 255u};

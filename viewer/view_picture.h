@@ -20,6 +20,7 @@ enum class ViewMode {
   Cascade,
   Residency,
   ProbeStates,
+  ObjectRegions,
   Count
 };
 static_assert(int(ViewMode::Final) == int(gpu_shared::kFrameFinal) &&
@@ -29,7 +30,8 @@ static_assert(int(ViewMode::Final) == int(gpu_shared::kFrameFinal) &&
               int(ViewMode::Normals) == int(gpu_shared::kFrameNormals) &&
               int(ViewMode::Cascade) == int(gpu_shared::kFrameCascade) &&
               int(ViewMode::Residency) == int(gpu_shared::kFrameResidency) &&
-              int(ViewMode::ProbeStates) == int(gpu_shared::kFrameProbeStates));
+              int(ViewMode::ProbeStates) == int(gpu_shared::kFrameProbeStates) &&
+              int(ViewMode::ObjectRegions) == int(gpu_shared::kFrameObjectRegions));
 // The Indirect view's extra brightness (as fly's indirect layer).
 inline constexpr float kIndirectStops = 2.0f;
 std::string_view viewModeName(ViewMode mode);
@@ -42,8 +44,8 @@ ViewMode nextViewMode(ViewMode mode);
 // (the hit voxel's sRGB albedo), Normals (n * 0.5 + 0.5), Cascade (the cascade each primary ray
 // hit in, one colour each; misses black), Residency (green: hit on streamed bricks of its own
 // cascade, orange: sent to a coarser cascade by a page not streamed yet, red: a miss on missing
-// data) from the shaded hits. ProbeStates needs the probe field on the device: the GPU picture
-// only (black here).
+// data) from the shaded hits. ProbeStates and ObjectRegions need the probe field and the object
+// regions on the device: the GPU picture only (black here).
 Image8 viewPicture(ViewMode mode, const ShadedView& view, const HdrFrame& frame, bool indirectOn,
                    float exposureStops);
 

@@ -40,6 +40,11 @@ SDF_CONST uint kFrameResidency = 6u;  // green: hit on streamed bricks of its ow
                                       // coarser cascade; red: a miss on missing data
 SDF_CONST uint kFrameProbeStates = 7u;  // the state of the probe nearest the hit, finest volume:
                                         // grey off, blue sleeping, green awake, red vigilant
+SDF_CONST uint kFrameObjectRegions = 8u;  // the 8³ macro region (finest region cascade) of the
+                                          // hit: dark grey none listed, yellow one object,
+                                          // orange two or three, red four or more; object hits
+                                          // white; outside every region grid black (no
+                                          // objects at all: every hit dark grey)
 
 // FrameComposePush.size.w bits.
 SDF_CONST uint kFrameProbesBound = 1u;  // bindings 3-10 hold a probe field (GI on)

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <vector>
 
 #include "demo/gi_shading.h"
@@ -40,6 +41,23 @@ inline Camera demoGiCamera() {
   c.target = glm::dvec3(0.0, 0.0, 0.0);
   c.fovYDegrees = 55.0;
   return c;
+}
+
+// A GI renderer with the demo tests' probe settings (64 rays a probe, probes two bricks apart:
+// 9³ probes 0.5 m apart, enough for the 4 m room), run for `frames` GI frames on `image` with
+// `camera` fixed, so its probes have converged that far.
+inline std::unique_ptr<GiRenderer> demoGiRenderer(gpu::Context& ctx, const CascadeStackImage& image,
+                                                  const SceneLights& lights, const Camera& camera,
+                                                  int frames) {
+  GiRendererOptions options;
+  options.settings.probes.raysPerProbe = 64;
+  options.settings.probes.spacingBricks = 2;
+  auto gi = std::make_unique<GiRenderer>(ctx, options, 1);
+  probe::ProbeFrameInputs inputs;
+  inputs.cameraWorld = camera.position;
+  inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
+  for (int f = 0; f < frames; ++f) gi->update(image, lights, inputs, std::uint64_t(f));
+  return gi;
 }
 
 // World position of pixel i's primary hit (view traced in `image`'s stack space).

@@ -91,15 +91,11 @@ TEST_F(DemoGiTest, IndirectLightFillsShadowAndRedWallTintsFloor) {
   const Camera camera = testCamera();
   constexpr int kW = 128, kH = 96, kGiFrames = 16;
 
-  GiRendererOptions on;
-  on.gi = true;
-  on.settings.probes.raysPerProbe = 64;
-  on.settings.probes.spacingBricks = 2;  // 9³ probes 0.5 m apart: enough for a 4 m room
-  GiRenderer gi(ctx(), on, 1);
+  const auto renderer = test::demoGiRenderer(ctx(), image, lights, camera, kGiFrames);
+  GiRenderer& gi = *renderer;
   probe::ProbeFrameInputs inputs;
   inputs.cameraWorld = camera.position;
   inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
-  for (int f = 0; f < kGiFrames; ++f) gi.update(image, lights, inputs, std::uint64_t(f));
   const ShadedView view = gi.shade(camera, kW, kH, image, lights);
   const HdrFrame withGi = gi.finish(view);
 

@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 
 #include "demo/frame_image.h"
 #include "demo/gi_shading.h"
@@ -67,14 +68,8 @@ TEST_F(GpuPictureTest, MatchesTheHostPathInEveryMode) {
   const SceneLights lights = test::demoGiLights();
   const Camera camera = test::demoGiCamera();
   constexpr int kW = 96, kH = 72;
-  GiRendererOptions options;
-  options.settings.probes.raysPerProbe = 64;
-  options.settings.probes.spacingBricks = 2;
-  GiRenderer gi(ctx(), options, 1);
-  probe::ProbeFrameInputs inputs;
-  inputs.cameraWorld = camera.position;
-  inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
-  for (int f = 0; f < 8; ++f) gi.update(image, lights, inputs, std::uint64_t(f));
+  const auto renderer = test::demoGiRenderer(ctx(), image, lights, camera, 8);
+  GiRenderer& gi = *renderer;
 
   for (bool raster : {false, true}) {
     gi.setPrimaryMesh(raster ? &triangles : nullptr);
@@ -125,6 +120,51 @@ TEST_F(GpuPictureTest, MatchesTheHostPathInEveryMode) {
                                  toneMap(frame.direct, kW, kH, 0.0f));
     EXPECT_LE(d.offByMore, std::size_t(kW * kH * 3 / 500));
   }
+}
+
+// The object-regions view with two objects over the floor: their own pixels white, the floor
+// pixels under and around them in regions that list them (yellow: one object), the rest of the
+// scene in regions that list none (dark grey); with no objects, every hit is dark grey.
+TEST_F(GpuPictureTest, ObjectRegionsShowWhereObjectsAreListed) {
+  const World world = test::demoGiWorld();
+  const CascadeImage cascade = buildCascade(world, cascadeOriginForWorld(world));
+  const CascadeStackImage image = stackImageOf(cascade);
+  const SceneLights lights = test::demoGiLights();
+  const Camera camera = test::demoGiCamera();
+  constexpr int kW = 96, kH = 72;
+  ObjectLibrary library(ObjectSdfSettings{16, 24, 0.0, 2});
+  const std::uint32_t box = library.addBox({0.3f, 0.2f, 0.25f}, {0.9f, 0.5f, 0.1f, 1.0f});
+  InstanceSet instances;
+  for (const glm::dvec3 at : {glm::dvec3(-0.6, 0.5, 0.6), glm::dvec3(0.2, 0.4, -1.0)}) {
+    ObjectTransform t;
+    t.translation = at;
+    instances.add(box, t);
+  }
+  GiRendererOptions options;
+  options.settings.probes.raysPerProbe = 16;
+  options.settings.probes.spacingBricks = 2;
+  GiRenderer gi(ctx(), options, 1);
+  PictureSettings regions;
+  regions.mode = gpu_shared::kFrameObjectRegions;
+  auto histogram = [&](const Image8& picture) {
+    std::map<std::uint32_t, std::size_t> h;
+    for (std::size_t p = 0; p < picture.rgb.size() / 3; ++p)
+      ++h[picture.rgb[3 * p] | picture.rgb[3 * p + 1] << 8 | picture.rgb[3 * p + 2] << 16];
+    return h;
+  };
+  gi.update(image, lights, {}, 0);
+  auto none = histogram(gi.renderPicture(camera, kW, kH, image, lights, regions));
+  gi.setObjects(&library, &instances);
+  gi.update(image, lights, {}, 1);
+  auto some = histogram(gi.renderPicture(camera, kW, kH, image, lights, regions));
+  constexpr std::uint32_t kWhite = 0xe6e6e6, kGrey = 0x404040, kYellow = 0x3cdce6;
+  std::printf("no objects: %zu grey, %zu yellow; two objects: %zu white, %zu yellow, %zu grey\n",
+              none[kGrey], none[kYellow], some[kWhite], some[kYellow], some[kGrey]);
+  EXPECT_GT(none[kGrey], std::size_t(kW * kH / 2));
+  EXPECT_EQ(none[kYellow] + none[kWhite], 0u);
+  EXPECT_GT(some[kWhite], 20u);
+  EXPECT_GT(some[kYellow], 20u);
+  EXPECT_GT(some[kGrey], some[kYellow]);  // most of the scene lists no object
 }
 
 }  // namespace

@@ -146,14 +146,8 @@ TEST_F(RasterPrimaryTest, RasterizedFrameShowsTheSameLightAsTheTracedOne) {
   const SceneLights lights = test::demoGiLights();
   const Camera camera = test::demoGiCamera();
   constexpr int kW = 128, kH = 96, kGiFrames = 12;
-  GiRendererOptions on;
-  on.settings.probes.raysPerProbe = 64;
-  on.settings.probes.spacingBricks = 2;
-  GiRenderer gi(ctx(), on, 1);
-  probe::ProbeFrameInputs inputs;
-  inputs.cameraWorld = camera.position;
-  inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
-  for (int f = 0; f < kGiFrames; ++f) gi.update(s.image, lights, inputs, std::uint64_t(f));
+  const auto renderer = test::demoGiRenderer(ctx(), s.image, lights, camera, kGiFrames);
+  GiRenderer& gi = *renderer;
   const ShadedView tracedView = gi.shade(camera, kW, kH, s.image, lights);
   const HdrFrame traced = gi.finish(tracedView);
   gi.setPrimaryMesh(&s.triangles);
