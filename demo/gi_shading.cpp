@@ -50,13 +50,8 @@ struct PrimaryShader {
 #undef LIGHT_RADIANCE
 };
 
-// Threads spread over rows of 64 x 16384 (main() of shade_primary.comp), so a large image stays
-// within the 65535 workgroups per axis Vulkan guarantees.
-glm::uvec3 spread(std::uint32_t threads) {
-  constexpr std::uint32_t kRow = 64u * 16384u;
-  if (threads <= kRow) return {threads, 1, 1};
-  return {kRow, (threads + kRow - 1) / kRow, 1};
-}
+// Threads spread over rows (main() of shade_primary.comp, camera_rays.comp, frame_compose.comp).
+glm::uvec3 spread(std::uint32_t threads) { return gpu::spreadOverRows(threads); }
 
 // pc.objectsMin/Max: the union of the instances' stack-space AABBs (ObjectInstanceGpu bounds),
 // grown by a hundredth of a voxel so rounding in the ray/box clip cannot cut a surface off.
@@ -500,7 +495,7 @@ Image8 GiRenderer::renderPicture(const Camera& camera, int width, int height,
     bindings.push_back(o);
   gpu::CommandBatch batch = context_.beginBatch();
   if (raster_) {  // the surfaces stay on the device: rasterized, then resolved there
-    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
+    const double pixelAngle = cameraPixelAngle(camera, height);
     raster_->record(batch, viewRasterPush(camera, width, height), width, height, p.visibility);
     raster_->recordResolve(batch, width, height, camera.position, pixelAngle,
                            image.cascade0MinWorld, image.voxelSize0, p.visibility, p.surfaces);
@@ -541,7 +536,7 @@ ShadedView GiRenderer::shade(const Camera& camera, int width, int height,
     const VisibilityImage visible =
         raster_->render(viewRasterPush(camera, width, height), width, height);
     times_.rasterMilliseconds = raster_->lastMilliseconds();
-    const double pixelAngle = 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / height;
+    const double pixelAngle = cameraPixelAngle(camera, height);
     surfaces =
         resolvePrimarySurfaces(raster_->scene(), raster_->pyramid(), visible, camera.position,
                                pixelAngle, image.cascade0MinWorld, image.voxelSize0);

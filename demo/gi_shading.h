@@ -11,8 +11,13 @@
 // (hard shadows), so they darken the direct light of what lies under them; the probes see them
 // too, which darkens the indirect light there (their indirect shadow).
 //
-// Used by `sdfstream render`, `demo` (one cascade built from the world, demo/view_renderer.h)
-// and `fly` (the streaming stack). Thread safety: as for the gpu::Context.
+// The primary surfaces can instead be rasterized from the source triangles
+// (GiRenderer::setPrimaryMesh, raster/mesh_view_raster.h) and lit the same way. shade + finish
+// return the frame to the host (render, demo, fly, tests); renderPicture keeps the whole frame on
+// the GPU and returns only the tone-mapped picture (the viewer).
+//
+// Used by `sdfstream render`, `demo` (one cascade built from the world, demo/view_renderer.h),
+// `fly` and `view` (the streaming stack). Thread safety: as for the gpu::Context.
 #pragma once
 
 #include <cstdint>

@@ -109,6 +109,10 @@ std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int widt
   return rays;
 }
 
+double cameraPixelAngle(const Camera& camera, int height) {
+  return 2.0 * std::tan(glm::radians(camera.fovYDegrees) * 0.5) / double(height);
+}
+
 gpu_shared::ViewRasterPush viewRasterPush(const Camera& camera, int width, int height) {
   // Ray (x, y) points along forward + u·right + v·up with u = ndcX·tanHalf·aspect and
   // v = -ndcY·tanHalf (Vulkan's y points down): so ndcX = x_view / (z_view·tanHalf·aspect),

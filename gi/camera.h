@@ -44,6 +44,10 @@ std::vector<gpu_shared::TraceRay> primaryRays(const Camera& camera, int width, i
 std::vector<gpu_shared::TraceRay> primaryRaysFrom(const Camera& camera, int width, int height,
                                                   const glm::vec3& originInRayFrame);
 
+// The angle one pixel spans vertically (radians, at the centre): a surface's footprint per
+// pixel is distance × this.
+double cameraPixelAngle(const Camera& camera, int height);
+
 // Clip from world for the rasterized view of the same pixels (shared/view_raster_layout.h:
 // Vulkan clip space, reverse-Z, infinite far plane, near plane 1 mm): pixel (x, y)'s centre sees
 // along primaryRaysFrom's ray (x, y).

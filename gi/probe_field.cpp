@@ -18,13 +18,8 @@ gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
   return gpu::Buffer(ctx, bytes, gpu::BufferKind::DeviceLocal);
 }
 
-// Threads spread over rows of 64 x 16384 (probeInvocation() in probe_bindings.glsl), so every
-// dispatch stays within the 65535 groups per axis Vulkan guarantees.
-glm::uvec3 spread(std::uint32_t threads) {
-  constexpr std::uint32_t kRow = 64u * 16384u;
-  if (threads <= kRow) return {threads, 1, 1};
-  return {kRow, (threads + kRow - 1) / kRow, 1};
-}
+// Threads spread over rows (probeInvocation() in probe_bindings.glsl).
+glm::uvec3 spread(std::uint32_t threads) { return gpu::spreadOverRows(threads); }
 
 }  // namespace
 

@@ -51,6 +51,15 @@ struct PassTiming {
                         // queue has no timestamps (Context::timestampsSupported())
 };
 
+// Threads of a 64-wide 1D pass spread over rows of 64 x 16384, so a launch of any size stays
+// within the 65535 workgroups per axis Vulkan guarantees. The shader's linear index is then
+// gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64.
+inline glm::uvec3 spreadOverRows(std::uint32_t threads) {
+  constexpr std::uint32_t kRow = 64u * 16384u;
+  if (threads <= kRow) return {threads, 1, 1};
+  return {kRow, (threads + kRow - 1) / kRow, 1};
+}
+
 class CommandBatch {
  public:
   ~CommandBatch();

@@ -144,15 +144,11 @@ void MeshViewRaster::recordResolve(gpu::CommandBatch& batch, int width, int heig
   push.stackOrigin = glm::vec4(glm::vec3(stackOrigin), float(1.0 / voxelSize));
   push.size = glm::uvec4(std::uint32_t(width), std::uint32_t(height),
                          std::uint32_t(scene_->triangles.size()), uvSets_);
-  const std::uint32_t pixels = std::uint32_t(width) * std::uint32_t(height);
-  // Rows of 64 x 16384 threads, as the shading pass's.
-  constexpr std::uint32_t kRow = 64u * 16384u;
-  const glm::uvec3 threads =
-      pixels <= kRow ? glm::uvec3(pixels, 1, 1) : glm::uvec3(kRow, (pixels + kRow - 1) / kRow, 1);
   batch.dispatch("raster_resolve", resolve_,
                  {&visibility, &positions_, &indices_, &uvs_, &triangleMaterial_, &materials_,
                   &textures_, &levels_, &texels_, &surfaces},
-                 &push, sizeof push, threads);
+                 &push, sizeof push,
+                 gpu::spreadOverRows(std::uint32_t(width) * std::uint32_t(height)));
 }
 
 VisibilityImage MeshViewRaster::render(const gpu_shared::ViewRasterPush& view, int width,

@@ -51,10 +51,6 @@ uint objectRegionColour(uint id, ShadedHit h) {
 const uint kCascadeColours[8] = uint[8](0x3c3ce6u, 0x28a0f0u, 0x3cdce6u, 0x50c850u, 0xdcc83cu,
                                         0xf06e46u, 0xe65aaau, 0xe6e6e6u);
 
-float srgbDecode(float c) {
-  return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-}
-
 uint packPicture(vec3 linear) {
   vec3 c = frameAcesFitted(linear * pc.params.x);
   return frameSrgb8(c.x) | (frameSrgb8(c.y) << 8) | (frameSrgb8(c.z) << 16) | 0xff000000u;
@@ -126,7 +122,7 @@ void main() {
     vec3 x = r.originTMin.xyz + r.dirTMax.xyz * h.normalT.w + n * h.direct.w;
     vec3 e = sdfstreamIrradiance(x, n, -r.dirTMax.xyz);
     vec4 a = unpackAlbedo(h.albedo);
-    vec3 albedo = vec3(srgbDecode(a.x), srgbDecode(a.y), srgbDecode(a.z));
+    vec3 albedo = vec3(frameSrgbToLinear(a.x), frameSrgbToLinear(a.y), frameSrgbToLinear(a.z));
     indirect = albedo * 0.3183098861837907 * e;
   }
   vec3 radiance = mode == kFrameDirect     ? direct

@@ -30,8 +30,6 @@ layout(std430, binding = 9) writeonly buffer Surfaces { PrimarySurface surfaces[
 
 layout(push_constant) uniform Push { RasterResolvePush pc; };
 
-float srgbDecode(float c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
-
 // world/color_pack.h's packAlbedo: sRGB-encoded RGB, linear alpha, R in the low byte.
 uint packSrgbAlbedo(vec4 c) {
   uint a = uint(floor(clamp(c.w, 0.0, 1.0) * 255.0 + 0.5));
@@ -48,7 +46,7 @@ vec4 texel(RasterLevelGpu level, int x, int y) {
   int h = int(level.info.z);
   uint v = texels[level.info.x + uint(wrapRepeat(y, h) * w + wrapRepeat(x, w))];
   vec4 c = unpackAlbedo(v);
-  return vec4(srgbDecode(c.x), srgbDecode(c.y), srgbDecode(c.z), c.w);
+  return vec4(frameSrgbToLinear(c.x), frameSrgbToLinear(c.y), frameSrgbToLinear(c.z), c.w);
 }
 
 // Bilinear with REPEAT wrap, sRGB decoded before filtering; texel centres at (i + 0.5) / w.

@@ -75,6 +75,14 @@ vec3 frameAcesFitted(vec3 c) {
   return clamp(o, vec3(0.0f), vec3(1.0f));
 }
 
+// sRGB-encoded [0, 1] -> linear (the sRGB EOTF), for albedo and texels read back as codes.
+#ifdef __cplusplus
+inline
+#endif
+float frameSrgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
 // Linear [0, 1] -> sRGB-encoded 8-bit code, rounded to nearest.
 #ifdef __cplusplus
 inline
