@@ -20,6 +20,7 @@
 #include "demo/gi_shading.h"
 #include "demo/moving_objects.h"
 #include "demo/streamed_gi.h"
+#include "demo/time_of_day.h"
 #include "gi/camera.h"
 #include "gpu/context.h"
 #include "streaming/cascade_stack.h"
@@ -80,7 +81,8 @@ class FlyThrough {
         path_(o.path ? readFlyPath(*o.path)
                      : defaultFlyPath(world_.store().manifest().boundsMin,
                                       world_.store().manifest().boundsMax)),
-        length_(path_.length()) {
+        length_(path_.length()),
+        sweepBase_(world_.render().lights) {
     if (world_.renderer() && o.objects > 0) placeObjects();
     fs::create_directories(o.out / "frames");
   }
@@ -88,12 +90,20 @@ class FlyThrough {
   void printStart() const {
     std::printf(
         "fly: %s, %d frames along %.0f m at %.1f m/s, %d cascades, atlas %.0f MiB, GI %s "
-        "(%u probe rays per frame), %zu moving objects, on %s\n",
+        "(%u probe rays per frame), %zu moving objects%s, on %s\n",
         o_.world.c_str(), o_.frames, length_, o_.speed, world_.stack().cascadeCount(),
         double(world_.stack().atlasBytes()) / (1 << 20), world_.render().gi ? "on" : "off",
         world_.render().renderer.settings.probes.rayBudget,
-        world_.objects() ? world_.objects()->instances.size() : 0,
+        world_.objects() ? world_.objects()->instances.size() : 0, sweepNote().c_str(),
         context_ ? context_->deviceName().c_str() : "CPU reference");
+  }
+
+  std::string sweepNote() const {
+    if (!o_.sunSweep) return "";
+    char text[96];
+    std::snprintf(text, sizeof text, ", sun from %.0f to %.0f degrees elevation", o_.sunSweep->x,
+                  o_.sunSweep->y);
+    return text;
   }
 
   // GI frames at the start of the path, streaming too; their loader stats stay out of the
@@ -142,7 +152,8 @@ class FlyThrough {
         relightSummaryMarkdown(giMetrics_, gi,
                                world_.render().renderer.settings.light.relightPageBudget) +
         objectSummaryMarkdown(giMetrics_, gi);
-    std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() + "\n\n" +
+    std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() +
+                     (o_.sunSweep ? "\n\nDay-to-dusk sweep" + sweepNote() : std::string()) + "\n\n" +
                      summaryMarkdown(summary) + giMd + memoryMarkdown();
     const auto failed = world_.loader().failedTiles();
     if (!failed.empty()) {
@@ -175,11 +186,22 @@ class FlyThrough {
 
   Camera cameraAt(double s) const { return pathCamera(path_, s); }
 
+  // Moves the suns to this frame's elevation of the sweep (a light change every frame: the light
+  // cache relights within its page budget, the longest out of date first).
+  void sweepSun(int f) {
+    const double t = o_.frames > 1 ? double(f) / (o_.frames - 1) : 1.0;
+    const double elevation = glm::mix(o_.sunSweep->x, o_.sunSweep->y, t);
+    SceneLights next = daylightAt(sweepBase_, elevation);
+    next.version = world_.render().lights.version + 1;
+    world_.render().lights = std::move(next);
+  }
+
   // Stream, move the objects, update the GI, and render when this frame is written.
   void frame(int f, double seconds) {
     const double travelled = o_.speed * seconds;
     const Camera cam = cameraAt(o_.loop ? pingPong(travelled, length_) : travelled);
     if (o_.sunDegreesPerFrame != 0.0) world_.turnSuns(o_.sunDegreesPerFrame);
+    if (o_.sunSweep) sweepSun(f);
     FrameMetrics m;
     m.frame = f;
     m.seconds = seconds;
@@ -267,6 +289,7 @@ class FlyThrough {
   StreamedGi world_;
   FlyPath path_;
   double length_;
+  SceneLights sweepBase_;  // the lights as given: the sun sweep's reference
   std::vector<FrameMetrics> metrics_;
   std::vector<MemorySample> memory_;
   StreamFrameStats lastStream_{};

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <optional>
 
+#include <glm/glm.hpp>
+
 #include "demo/render_options.h"
 #include "gpu/context.h"
 
@@ -36,6 +38,9 @@ struct FlyOptions {
   // flat over 100,000 frames.
   bool loop = false;
   double sunDegreesPerFrame = 0.0;
+  // A day-to-dusk sweep (demo/time_of_day.h): every sun's elevation, in degrees, at the first and
+  // the last frame, moved linearly in between; its colour, its strength and the sky follow.
+  std::optional<glm::dvec2> sunSweep;
   int metricsEvery = 1;
   RenderOptions render;         // rayBudget kProbeBudgetOfDevice: chosen by device
   std::optional<gpu::ContextOptions> device;  // none: the CPU reference (direct light only)

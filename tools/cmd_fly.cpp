@@ -14,7 +14,7 @@ int runFly(int argc, char** argv) {
   Args args(argc, argv, 2,
             renderValueOptions({"-o", "--path", "--speed", "--frames", "--width", "--height",
                                 "--image-every", "--cascades", "--atlas-mib", "--upload-mib",
-                                "--device", "--loader-threads", "--objects", "--sun-orbit",
+                                "--device", "--loader-threads", "--objects", "--sun-orbit", "--sun-sweep",
                                 "--metrics-every"}),
             {"--help", "-h", "--cpu", "--no-pacing", "--layers", "--loop"});
   if (args.has("--help") || args.has("-h")) {
@@ -36,6 +36,9 @@ int runFly(int argc, char** argv) {
         "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees per frame (a\n"
         "                     moving sun: every frame is a light change; the light cache\n"
         "                     relights within --relight-pages, the longest out of date first)\n"
+        "  --sun-sweep E0:E1  day to dusk: move the sun from E0 to E1 degrees of elevation over\n"
+        "                     the run (azimuth kept), reddening and dimming it and the sky as\n"
+        "                     it sets (demo/time_of_day.h); e.g. 35:3\n"
         "  --metrics-every K  keep the per-frame metrics of every K-th frame (default 1; long\n"
         "                     runs keep memory flat with 1000)\n"
         "  --frames N         frames at 30 per second of path time (default 300)\n"
@@ -75,6 +78,16 @@ int runFly(int argc, char** argv) {
   o.pacing = !args.has("--no-pacing");
   o.loop = args.has("--loop");
   o.sunDegreesPerFrame = args.number("--sun-orbit", 0.0);
+  if (auto sweep = args.value("--sun-sweep")) {
+    double e0 = 0.0, e1 = 0.0;
+    char tail = 0;
+    if (std::sscanf(sweep->c_str(), "%lf:%lf%c", &e0, &e1, &tail) != 2 || !(e0 >= -10.0) ||
+        !(e0 <= 90.0) || !(e1 >= -10.0) || !(e1 <= 90.0))
+      throw InputError(InputErrorKind::Usage, "command line",
+                       "--sun-sweep expects E0:E1, two elevations in degrees within [-10, 90], "
+                       "got '" + *sweep + "'");
+    o.sunSweep = glm::dvec2(e0, e1);
+  }
   o.metricsEvery = args.integer("--metrics-every", 1, 1, 1 << 30);
   o.layers = args.has("--layers");
   o.cascades = args.integer("--cascades", o.cascades, 1, 8);

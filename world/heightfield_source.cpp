@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/printable.h"
 #include "world/color_pack.h"
+#include "world/png_chunks.h"
 
 namespace sdfstream {
 namespace {
@@ -152,32 +153,6 @@ Heightfield::Heightfield(int width, int height, std::vector<float> heights, doub
   maxHeight_ = *mx;
 }
 
-namespace {
-
-// Walks the PNG's chunks (length, type, data, CRC) from just after the signature to IEND: every
-// length must fit in the bytes left. stb grows its IDAT buffer to what a length claims before
-// reading it, so a 60-byte file claiming a 2 GiB chunk would allocate 2 GiB (found by fuzzing).
-void checkPngChunks(std::ifstream& in, std::uintmax_t fileSize, const std::string& file) {
-  std::uintmax_t pos = 8;
-  // A whole chunk header is enough for stb to act on its length, even when the CRC is missing.
-  while (pos + 8 <= fileSize) {
-    unsigned char header[8];
-    in.seekg(std::streamoff(pos));
-    if (!in.read(reinterpret_cast<char*>(header), 8)) break;
-    const std::uint32_t length = std::uint32_t(header[0]) << 24 | std::uint32_t(header[1]) << 16 |
-                                 std::uint32_t(header[2]) << 8 | std::uint32_t(header[3]);
-    if (fileSize - pos < 12 || length > fileSize - pos - 12)
-      throw InputError(Kind::Truncated, file,
-                       "PNG chunk at byte " + std::to_string(pos) + " declares " +
-                           std::to_string(length) + " bytes, more than the file holds");
-    if (std::memcmp(header + 4, "IEND", 4) == 0) return;
-    pos += 12 + std::uintmax_t(length);
-  }
-  // No IEND: stb decides (a file cut short inside a chunk header is its error to report).
-}
-
-}  // namespace
-
 Heightfield Heightfield::load(const HeightfieldDesc& desc) {
   const std::string file = desc.png.string();
   if (!(desc.metresPerPixel > 0.0) || !std::isfinite(desc.metresPerPixel))
@@ -189,10 +164,7 @@ Heightfield Heightfield::load(const HeightfieldDesc& desc) {
   if (!probe || std::filesystem::is_directory(desc.png, ec))
     throw InputError(Kind::Io, file, std::string("cannot open: ") + std::strerror(errno));
   // PNG only (see heightfield_source.h): the signature decides before stb sees the file.
-  constexpr unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  unsigned char signature[8] = {};
-  probe.read(reinterpret_cast<char*>(signature), 8);
-  if (probe.gcount() != 8 || std::memcmp(signature, kPngSignature, 8) != 0)
+  if (!hasPngSignature(probe))
     throw InputError(Kind::Malformed, file, "not a PNG file (a heightmap must be a PNG)");
   checkPngChunks(probe, std::filesystem::file_size(desc.png, ec), file);
   probe.close();

@@ -1,6 +1,7 @@
-// A layout file (world/scene_layout.h) as SdfSources for the tiled world importer: one mesh source
-// per asset placement (world/mesh_source.h), one for all boxes, one heightfield source for the
-// terrain. Sources are independent, so a kilometre layout never needs one giant grid.
+// A layout file (world/scene_layout.h) as SdfSources for the tiled world importer: mesh sources
+// for the asset placements (world/mesh_source.h; one per placement of a closed asset, one per
+// 256 m cell for an open asset's placements, whose union is the same SDF), one for all boxes, one
+// heightfield source for the terrain. Sources are independent, so a kilometre layout never needs one giant grid.
 #pragma once
 
 #include <filesystem>

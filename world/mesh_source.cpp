@@ -27,10 +27,13 @@ class MeshSource final : public SdfSource {
   explicit MeshSource(TriangleScene scene) : scene_(std::move(scene)) {
     validateScene(scene_);
     closed_ = isClosedMesh(scene_);
+    boundsMin_ = glm::dvec3(scene_.boundsMin());
+    boundsMax_ = glm::dvec3(scene_.boundsMax());
   }
 
-  glm::dvec3 boundsMin() const override { return glm::dvec3(scene_.boundsMin()); }
-  glm::dvec3 boundsMax() const override { return glm::dvec3(scene_.boundsMax()); }
+  // Kept: the tile builder asks every source for its bounds for every tile and LOD.
+  glm::dvec3 boundsMin() const override { return boundsMin_; }
+  glm::dvec3 boundsMax() const override { return boundsMax_; }
   double nativeVoxelSize() const override { return defaultVoxelSize(scene_); }
 
   double estimateBytes(const PartitionSpec& spec) const override {
@@ -187,6 +190,7 @@ class MeshSource final : public SdfSource {
   }
   TriangleScene scene_;
   bool closed_ = false;
+  glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
   std::array<Lod, PartitionSpec::kMaxLods> lods_;
 };
 

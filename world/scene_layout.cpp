@@ -163,10 +163,9 @@ HeightfieldDesc readTerrain(const Reader& r, const Json& t, const std::filesyste
 }  // namespace
 
 // Appends `part` to `out` transformed by m (materials and textures re-indexed).
-void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) {
+void appendTransformedGeometry(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m,
+                               std::uint32_t materialBase) {
   const auto vertexBase = std::uint32_t(out.positions.size());
-  const auto materialBase = std::uint32_t(out.materials.size());
-  const int textureBase = int(out.textures.size());
   for (const glm::vec3& p : part.positions) out.positions.emplace_back(m * glm::dvec4(p, 1.0));
   out.uvs.insert(out.uvs.end(), part.uvs.begin(), part.uvs.end());
   out.uvs.resize(out.positions.size(), glm::vec2(0.0f));
@@ -181,6 +180,12 @@ void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm:
     out.triangles.push_back(glm::uvec3(vertexBase) + (flip ? glm::uvec3(t.x, t.z, t.y) : t));
   for (std::uint32_t mat : part.triangleMaterial)
     out.triangleMaterial.push_back(materialBase + mat);
+}
+
+void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m) {
+  const auto materialBase = std::uint32_t(out.materials.size());
+  const int textureBase = int(out.textures.size());
+  appendTransformedGeometry(out, part, m, materialBase);
   for (Material mat : part.materials) {
     if (mat.baseColorTexture >= 0) mat.baseColorTexture += textureBase;
     if (mat.emissiveTexture >= 0) mat.emissiveTexture += textureBase;

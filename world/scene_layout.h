@@ -77,5 +77,9 @@ glm::dmat4 placementTransform(const LayoutAsset& asset, const LayoutPlacement& p
 // Appends `part` transformed by m to `out` (materials and textures re-indexed; a mirroring m
 // flips the winding so faces keep facing out).
 void appendTransformed(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m);
+// The same without materials or textures: the triangles use part's materials as already appended
+// to `out` at materialBase (a second placement of the same asset in one scene).
+void appendTransformedGeometry(TriangleScene& out, const TriangleScene& part, const glm::dmat4& m,
+                               std::uint32_t materialBase);
 
 }  // namespace sdfstream

@@ -63,14 +63,16 @@ bool anyInBand(const Samples& s) {
   return false;
 }
 
-// Sources' brick ranges at one LOD: bounds grown by the band plus one brick.
+// Sources' brick ranges at one LOD: bounds grown by the band plus one brick; only those that
+// reach the bricks [regionLo, regionHi] (a layout places thousands of sources, a tile sees a few).
 struct SourceRange {
   const SdfSource* source;
   glm::ivec3 lo, hi;  // inclusive, LOD-l brick coords
 };
 
 std::vector<SourceRange> sourceRanges(const std::vector<const SdfSource*>& sources,
-                                      const PartitionSpec& spec, int lod) {
+                                      const PartitionSpec& spec, int lod, glm::ivec3 regionLo,
+                                      glm::ivec3 regionHi) {
   const double v = spec.lodVoxelSize(lod);
   const double grow = (kBand + kCells) * v;
   std::vector<SourceRange> out;
@@ -79,7 +81,9 @@ std::vector<SourceRange> sourceRanges(const std::vector<const SdfSource*>& sourc
     glm::dvec3 hi = (s->boundsMax() + grow - spec.origin) / (v * kCells);
     lo = glm::clamp(glm::floor(lo), -1e9, 1e9);
     hi = glm::clamp(glm::floor(hi), -1e9, 1e9);
-    out.push_back({s, glm::ivec3(lo), glm::ivec3(hi)});
+    const SourceRange r{s, glm::ivec3(lo), glm::ivec3(hi)};
+    if (!glm::any(glm::lessThan(r.hi, regionLo)) && !glm::any(glm::greaterThan(r.lo, regionHi)))
+      out.push_back(r);
   }
   return out;
 }
@@ -236,7 +240,8 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
     region.slot.assign(slots, -1);
     region.uniform.assign(slots, kBand);
     region.occupied.assign(slots, 0);
-    const std::vector<SourceRange> ranges = sourceRanges(sources, spec, lod);
+    const std::vector<SourceRange> ranges =
+        sourceRanges(sources, spec, lod, region.lo, region.lo + (region.size - 1));
     std::vector<std::unique_ptr<Materials>> materials(std::size_t(n) * n * n);
     auto ownIndex = [&](glm::ivec3 b) {
       glm::ivec3 r = b - tile * n;

@@ -108,6 +108,10 @@ std::vector<std::uint8_t> readZipMember(const std::filesystem::path& zip, const 
   if (member.method != 8)
     throw InputError(Kind::Malformed, file,
                      "unsupported compression method " + std::to_string(member.method));
+  // stb's Huffman decoder peeks a few bits past the last symbol and reports "bad huffman code"
+  // when the stream ends exactly at the buffer's end (Sweet Home 3D's small .mtl members do):
+  // zero bytes after the data are never decoded, only peeked at.
+  packed.resize(packed.size() + 8, 0);
   // Into a buffer of the declared size (bounded above), so a deflate bomb cannot grow it: stb
   // fails when the data would overrun it. Both sizes fit in int (kMaxZipMemberBytes).
   std::vector<std::uint8_t> bytes(member.size);

@@ -200,5 +200,42 @@ TEST(Cli, FlyRelightBudgetReachesTheSummary) {
   }
 }
 
+
+TEST(Cli, SunSweepReachesTheSummaryAndMisuseIsOneLine) {
+  fs::path dir = test::scratchDir("cli-sun-sweep");
+  RunResult imp = run("import " + (kGltf2 / "BoxTextured-glTF-Binary/BoxTextured.glb").string() +
+                      " -o " + (dir / "world").string());
+  ASSERT_EQ(imp.exitCode, 0) << imp.err;
+  const std::string fly = "fly " + (dir / "world").string() + " -o " + (dir / "fly").string() +
+                          " --frames 2 --width 16 --height 16 --objects 0 --probe-budget 256 "
+                          "--cascades 1 --sun-sweep ";
+  RunResult good = run(fly + "35:3");
+  ASSERT_EQ(good.exitCode, 0) << good.err;
+  std::ifstream in(dir / "fly" / "summary.md");
+  const std::string md{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_NE(md.find("sun from 35 to 3 degrees elevation"), std::string::npos) << md;
+  for (const std::string bad : {"35", "35:x", "35:3:1", "120:3"}) {
+    RunResult r = run(fly + bad);
+    EXPECT_NE(r.exitCode, 0) << bad;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("--sun-sweep"), std::string::npos) << r.err;
+  }
+}
+
+TEST(Cli, GenerateWorldRefusesSettlementsWithoutRoom) {
+  if (!fs::exists("/usr/share/games/trigger-rally/data.zip"))
+    GTEST_SKIP() << "skipped: trigger-rally-data is not installed (scripts/setup installs it)";
+  fs::path dir = test::scratchDir("cli-generate-small") / "layout";
+  RunResult r = run("generate-world -o " + dir.string() + " --size-km 1");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--no-settlements"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "layout.json"));
+  RunResult plain = run("generate-world -o " + dir.string() + " --size-km 1 --no-settlements");
+  EXPECT_EQ(plain.exitCode, 0) << plain.err;
+  EXPECT_TRUE(fs::exists(dir / "layout.json"));
+  EXPECT_FALSE(fs::exists(dir / "flight.txt"));
+}
+
 }  // namespace
 }  // namespace sdfstream
