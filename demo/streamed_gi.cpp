@@ -125,7 +125,7 @@ StreamFrameStats StreamedGi::settle(const glm::dvec3& centre, const glm::dvec3& 
 }
 
 // Syncs the atlas slots the stack rewrote, relights, updates the probes.
-GiFrameStats StreamedGi::giUpdate(const Camera& camera) {
+GiFrameStats StreamedGi::giUpdate(const Camera& camera, bool probesPaused) {
   std::vector<std::uint32_t> dirty = stack_.takeDirtySlots();
   if (!renderer_) return GiFrameStats{};
   if (reuploadAtlas_) {  // the atlas was given back and reserved again: it holds nothing
@@ -136,6 +136,7 @@ GiFrameStats StreamedGi::giUpdate(const Camera& camera) {
   probe::ProbeFrameInputs inputs;
   inputs.cameraWorld = camera.position;
   inputs.viewDirection = glm::vec3(glm::normalize(camera.target - camera.position));
+  inputs.paused = probesPaused;
   return renderer_->update(stack_, dirty, render_.lights, inputs, giFrame_++);
 }
 

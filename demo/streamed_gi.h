@@ -85,7 +85,8 @@ class StreamedGi {
   // last frame's stats.
   StreamFrameStats settle(const glm::dvec3& centre, const glm::dvec3& viewDirection);
   // One GI frame on the stack as it stands (relight, probes); empty stats without a device.
-  GiFrameStats giUpdate(const Camera& camera);
+  // probesPaused: no probe passes (ProbeFrameInputs::paused), the viewer's GI-off.
+  GiFrameStats giUpdate(const Camera& camera, bool probesPaused = false);
   // The camera's view of the stack: direct + indirect light (CPU reference: direct only).
   // `shadeMilliseconds` gets the shading pass's time.
   HdrFrame renderFrame(const Camera& camera, int width, int height,

@@ -159,7 +159,9 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   t = Clock::now();
   inputs.sky = sky;
   inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
-  probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
+  stats.probesPaused = inputs.paused;
+  if (!inputs.paused)
+    probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
   stats.pagesRelit = light_.pagesRelitLastUpdate();
   stats.bytesUploaded = staging_.bytesThisFrame();
   previous_ = std::make_unique<CascadeStackImage>(image);
@@ -171,7 +173,7 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
 GiFrameStats GiSystem::harvest(FrameInFlight& done) {
   GiFrameStats stats = std::move(done.stats);
   stats.passes = done.batch.timings();
-  stats.probes = probes_.readStats(done.slot);
+  if (!stats.probesPaused) stats.probes = probes_.readStats(done.slot);
   light_.timings_ = passesStartingWith(stats.passes, "light_cache");
   objects_.timings_ = passesStartingWith(stats.passes, "object_regions");
   probes_.timings_ = passesStartingWith(stats.passes, "probe_");

@@ -99,6 +99,10 @@ struct ProbeFrameInputs {
   glm::vec3 viewDirection{0.0f, 0.0f, -1.0f};
   gpu_shared::GpuSky sky{};
   bool lightsChanged = false;  // wakes every probe (vigilant) for vigilantFrames
+  // No probe passes this frame: the field keeps what it holds (a host's "GI off" that saves the
+  // probes' GPU time; the light cache, objects and streaming still update). Unpaused, the field
+  // catches up from where it stood, as after a camera jump.
+  bool paused = false;
 };
 
 // Everything the passes read for one frame.

@@ -215,7 +215,8 @@ class ViewSession {
     Image8 rendered;
     GiRenderer& renderer = *world_->renderer();
     world_->withinDeviceMemory(frame, [&] {
-      gi_ = world_->giUpdate(cam);
+      // GI off pauses the probe passes too (their GPU time is the point of turning it off).
+      gi_ = world_->giUpdate(cam, !indirect_);
       rendered = renderer.renderPicture(cam, width, height, world_->stack().stackImage(),
                                         world_->render().lights, settings);
     });
@@ -245,7 +246,7 @@ class ViewSession {
                   double(stream_.bytesUploaded) / double(1 << 20));
     std::snprintf(
         line[2], sizeof line[2], "GI %s: %u probes updated, %u rays  objects %u  view %s%s",
-        indirect_ ? "on" : "off (direct only)", gi_.probes.probesUpdated, gi_.probes.raysTraced,
+        indirect_ ? "on" : "off (direct only, probes paused)", gi_.probes.probesUpdated, gi_.probes.raysTraced,
         gi_.objectInstances, std::string(viewModeName(mode_)).c_str(), paused_ ? "  PAUSED" : "");
     std::snprintf(line[3], sizeof line[3], "%s  speed %.1f m/s  %dx%d",
                   sunText(world_->render().lights).c_str(), camera_->speed(), width, height);
