@@ -33,7 +33,7 @@ struct GiBenchOptions {
   std::string diagnoseConfig = "default";  // the configuration --diagnose takes apart
   std::vector<std::string> only;           // run just these configurations (empty: all)
   std::filesystem::path out = "out/bench-gi", data = "../shared/data",
-                        largeWorld = "out/worlds/large-4km";
+                        largeWorld = "out/worlds/village-4km";
   std::vector<std::string> scenes;  // names of benchSceneNames()
   int width = 160, height = 120;    // of every view
   std::uint32_t samples = 512;      // reference paths per point

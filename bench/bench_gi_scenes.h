@@ -16,7 +16,7 @@
 //                   24.8 m across at 5 cm voxels (4 cascades): Sponza's geometry in small.
 //   bunny           glmark2's bunny on a ground slab under sun + sky (Debian glmark2-data): the
 //                   small scene quick mode uses when the Breakfast Room is absent.
-//   large-world     out/worlds/large-4km (sdfstream generate-world + bench world): timings and
+//   large-world     out/worlds/village-4km (sdfstream generate-world + bench world): timings and
 //                   memory only; it has no triangle reference (its terrain is a heightfield
 //                   source), so its error columns stay empty.
 // Views: the cameras stored in the glTF files where they have some, else placed from the bounds.

@@ -49,7 +49,7 @@ constexpr const char* kHelp =
     "                 large-world (default: cornell-box,sponza,breakfast-room,courtyard,\n"
     "                 large-world; missing data is skipped with a message)\n"
     "  --out DIR      default out/bench-gi        --data DIR  default ../shared/data\n"
-    "  --large-world  default out/worlds/large-4km (a pack; skipped when absent)\n"
+    "  --large-world  default out/worlds/village-4km (a pack; skipped when absent)\n"
     "  --frames N     warm-up frames per configuration (default 32, quick 8)\n"
     "  --measure N    measured frames (default 6, quick 4)\n"
     "  --samples N    reference paths per point (default 512, quick 256)\n"

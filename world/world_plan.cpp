@@ -12,7 +12,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kRoadWidth = 8.0, kPavement = 2.5;
 constexpr float kStreetLampRadiance = 20.0f;
-constexpr float kHallLampRadiance = 8.0f;
+constexpr float kHallLampRadiance = 2.5f;
 
 // A street's frame: u runs along the street, v across it; alongX says which world axis u is.
 struct StreetFrame {
