@@ -23,7 +23,7 @@ constexpr Binding kBindings[] = {
     {Action::Pause, "P", "pause the objects and the sun (streaming and GI go on)"},
     {Action::Reset, "R", "camera back to its start"},
     {Action::Screenshot, "F12", "write the next frame to OUT/screenshot-NNNN.png"},
-    {Action::ToggleGi, "G", "indirect light on/off (the probes keep updating)"},
+    {Action::ToggleGi, "G", "indirect light on/off (off pauses the probe updates too)"},
     {Action::NextView, "V",
      "view: final, direct, indirect, albedo, normals, cascade, residency, probe states, "
      "object regions"},

@@ -123,7 +123,7 @@ void addStreetLamp(std::vector<LayoutBox>& out, const Heightfield& field, glm::d
   const double g = field.heightAt(at.x, at.y);
   const double r = kMinWallMetres / 2.0;
   push(out, {at.x - r, g - 0.5, at.y - r}, {at.x + r, g + height, at.y + r}, kIron);
-  push(out, {at.x - 0.7, g + height, at.y - 0.7}, {at.x + 0.7, g + height + 0.8, at.y + 0.7},
+  push(out, {at.x - 0.5, g + height, at.y - 0.5}, {at.x + 0.5, g + height + kMinWallMetres, at.y + 0.5},
        glm::vec3(0.9f), kWarmLamp * radiance);
 }
 

@@ -74,7 +74,7 @@ void planVillage(WorldPlan& plan, const Heightfield& field, const StreetFrame& s
     }
   for (double u = u0; u <= u1; u += 22.0) {
     const int side = int(std::lround((u - u0) / 22.0)) % 2 ? 1 : -1;
-    addStreetLamp(plan.boxes, field, s.world(u, side * (kRoadWidth / 2.0 + 1.0)), 6.0,
+    addStreetLamp(plan.boxes, field, s.world(u, side * (kRoadWidth / 2.0 + 1.0)), 5.0,
                   kStreetLampRadiance);
     ++plan.lamps;
   }
@@ -177,7 +177,7 @@ WorldPlan planWorld(const Heightfield& field, double size, std::uint64_t seed) {
     bool inHall;
   };
   for (const Waypoint& w : {Waypoint{-135, -25, 32, false}, Waypoint{-95, -8, 16, false},
-                            Waypoint{-50, 0, 8.5, false}, Waypoint{10, 0, 7.5, false},
+                            Waypoint{-50, 0, 9.0, false}, Waypoint{10, 0, 8.0, false},
                             Waypoint{50, 0, 5.5, true}, Waypoint{88, 0, 5.5, true},
                             Waypoint{126, 0, 5.5, true}, Waypoint{170, 0, 12, false},
                             Waypoint{240, 15, 30, false}, Waypoint{360, 50, 55, false},
@@ -214,7 +214,10 @@ WorldPlan planWorld(const Heightfield& field, double size, std::uint64_t seed) {
   // Forests: the showcase's, either side of the road before the village, a sparser one beyond
   // the hall, then clusters over the rest of the world.
   std::vector<PlannedAsset> trees;
-  occupy(plan, main.world(-160.0, -40.0), main.world(-85.0, 12.0));  // the descent, clear of trees
+  // The flight's corridors, clear of trees: the descent to the street and the climb after the
+  // hall (the camera is below the treetops there).
+  occupy(plan, main.world(-160.0, -40.0), main.world(-85.0, 12.0));
+  occupy(plan, main.world(114.0, -30.0), main.world(400.0, 80.0));
   planForest(plan, main.world(-360.0, -170.0), main.world(-100.0, 170.0), 10.0, rng, trees);
   planForest(plan, main.world(130.0, -220.0), main.world(420.0, 220.0), 15.0, rng, trees);
   for (int c = 0; c < 12; ++c) {

@@ -1,6 +1,7 @@
 // The generated world's showcase flight (world/world_plan.h) as the fly-through flies it
 // (demo/fly_path.h's spline, not just its waypoints): clear of every building, lamp and road slab
-// by a metre, above the terrain, and through the hall from door to door under its roof.
+// by a metre, above the terrain and the trees, and through the hall from door to door under its
+// roof.
 #include <gtest/gtest.h>
 
 #include "demo/fly_path.h"
@@ -32,6 +33,17 @@ TEST(ShowcaseFlight, ClearsEveryBoxAndTheGroundAndCrossesTheHall) {
     }
   }
   EXPECT_GT(lowest, 2.5);
+  // Nor through a tree: where the camera passes within a tree's crown (its size / 2 plus a metre,
+  // horizontally), it is above the treetop.
+  for (double s = 0.0; s <= length; s += 1.0) {
+    const glm::dvec3 p = path.position(s);
+    for (const PlannedAsset& a : plan.assets) {
+      if (a.kind != PlanAsset::Conifer && a.kind != PlanAsset::Broadleaf) continue;
+      if (glm::length(glm::dvec2(p.x, p.z) - a.at) > a.size / 2.0 + 1.0) continue;
+      ASSERT_GT(p.y, g.terrain->heightAt(a.at.x, a.at.y) + a.size + 1.0)
+          << "at " << s << " m the camera flies through a " << a.size << " m tree";
+    }
+  }
   // The hall is 52 m long: the flight crosses all of it.
   EXPECT_GT(hallMetres, 0.9 * (plan.hallHi.x - plan.hallLo.x));
 }

@@ -25,12 +25,7 @@ TEST(GiPause, PausedFramesKeepTheProbeFieldAndSkipItsPasses) {
   settings.probes.spacingBricks = 4;
   settings.probes.raysPerProbe = 32;
   GiSystem gi(*context, settings, 3);
-  SceneLights lights;
-  SceneLight sun;
-  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-  sun.intensity = 3.0f;
-  lights.lights.push_back(sun);
-  lights.sky.zenith = glm::vec3(0.2f, 0.3f, 0.5f);
+  SceneLights lights = bunnySunAndSky();
   probe::ProbeFrameInputs inputs;
   inputs.cameraWorld = bunny.camera;
   bunny.stack->update(bunny.camera);

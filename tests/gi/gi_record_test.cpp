@@ -79,12 +79,7 @@ TEST(GiRecord, StreamedFramesWithObjectsMatchBlockingBitForBitWithoutWaits) {
   GiSystem& recorded = *recordedGi;
   blocking.setObjects(&library, &blockingObjects.instances);
   recorded.setObjects(&library, &recordedObjects.instances);
-  SceneLights lights;
-  SceneLight sun;
-  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-  sun.intensity = 3.0f;
-  lights.lights.push_back(sun);
-  lights.sky.zenith = glm::vec3(0.2f, 0.3f, 0.5f);
+  SceneLights lights = bunnySunAndSky();
 
   const std::uint64_t submitsBefore = adopted->submitCount();
   const std::uint64_t waitsBefore = adopted->hostWaitCount();

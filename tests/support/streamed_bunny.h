@@ -15,6 +15,7 @@
 #include "tests/support/test_data.h"
 #include "world/obj_import.h"
 #include "world/pack_import.h"
+#include "world/scene_lights.h"
 
 namespace sdfstream::test {
 
@@ -51,6 +52,17 @@ inline StreamedBunny streamBunny(const std::string& scratchName = "streamed-bunn
   }
   EXPECT_TRUE(b.stack->settled());
   return b;
+}
+
+// The streamed bunny's lights in the GI tests: a sun from above and a blue sky.
+inline SceneLights bunnySunAndSky() {
+  SceneLights lights;
+  SceneLight sun;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  sun.intensity = 3.0f;
+  lights.lights.push_back(sun);
+  lights.sky.zenith = glm::vec3(0.2f, 0.3f, 0.5f);
+  return lights;
 }
 
 }  // namespace sdfstream::test
