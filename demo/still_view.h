@@ -19,6 +19,21 @@ namespace sdfstream {
 Camera defaultStillCamera(const glm::dvec3& boundsMin, const glm::dvec3& boundsMax,
                           double aspect);
 
+// The default still view of a world pack as loaded: the overview above, unless most of what it
+// sees is roof. A roofed interior (Sponza's galleries, a closed box) seen from above shows its
+// roof: the overview is traced at 96x54 on the CPU (the stack settled around it) and when more
+// than half of its hits are upward-facing surfaces in the top fifth of the bounds, the view moves
+// into it: the interiorStillCamera, of eight along the horizontal axes, that sees deepest into
+// the bounds.
+Camera defaultStillCamera(StreamedGi& world, double aspect);
+
+// A view along `axis` (0 = x, 2 = z) towards +axis (sign +1) or -axis (-1): inside the bounds a
+// twelfth of the way in from the end it looks away from, a third of the way up, looking a little
+// down with 70 degrees of vertical field of view; or outside, 0.6 of the axis's extent beyond that
+// end at half height, looking in with 50 degrees.
+Camera interiorStillCamera(const glm::dvec3& boundsMin, const glm::dvec3& boundsMax, int axis,
+                           int sign, bool outside);
+
 // Where a still view's cascades are centred (see above).
 glm::dvec3 stillViewCentre(const Camera& camera, const glm::dvec3& boundsMin,
                            const glm::dvec3& boundsMax);

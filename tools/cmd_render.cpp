@@ -32,7 +32,9 @@ int runRender(int argc, char** argv) {
         "  --camera px,py,pz,tx,ty,tz[,fov]  position, target (metres) and vertical fov "
         "(degrees);\n"
         "                                    default: the whole world from above, across\n"
-        "                                    its longer side, as close as it fits\n"
+        "                                    its longer side, as close as it fits; a roofed\n"
+        "                                    interior (mostly roof from there) is looked\n"
+        "                                    into instead, from inside or from an open side\n"
         "  --width W --height H              image size (default 640 x 360)\n"
         "  --layers                          also write IMAGE-direct.png and IMAGE-indirect.png\n"
         "                                    (direct light only; indirect light only)\n"
@@ -74,9 +76,7 @@ int runRender(int argc, char** argv) {
   std::unique_ptr<gpu::Context> context = gpuContextFromArgs(args);
   StreamedGi streamed(world, context.get());
   const RenderOptions& options = streamed.render();
-  if (!camera)
-    camera = defaultStillCamera(streamed.store().manifest().boundsMin,
-                                streamed.store().manifest().boundsMax, double(width) / height);
+  if (!camera) camera = defaultStillCamera(streamed, double(width) / height);
   const ViewResult r = renderStill(streamed, *camera, width, height, options.giFrames);
   const fs::path out = *args.value("-o");
   writePng(out, r.image);

@@ -89,13 +89,12 @@ class ViewSession {
     const FlyPath path = defaultFlyPath(manifest.boundsMin, manifest.boundsMax);
     const double diagonal = glm::length(manifest.boundsMax - manifest.boundsMin);
     const double speed = o.speed > 0.0 ? o.speed : std::max(0.5, diagonal / 30.0);
-    // The start is render's default view: the whole world in the picture, from above.
+    // The start is render's default view: the whole world in the picture, from above, or from
+    // inside a roofed interior.
     boundsMin_ = manifest.boundsMin;
     boundsMax_ = manifest.boundsMax;
     camera_ = std::make_unique<FlyCamera>(
-        o.camera ? *o.camera
-                 : defaultStillCamera(boundsMin_, boundsMax_, double(o.width) / o.height),
-        speed);
+        o.camera ? *o.camera : defaultStillCamera(*world_, double(o.width) / o.height), speed);
     if (o.objects > 0) {
       PackGround ground(world_->store(), manifest.boundsMin.y, manifest.boundsMax.y);
       FlyObjectsSettings os;

@@ -1,12 +1,18 @@
 // `sdfstream render` streams the whole cascade stack: a world larger than one cascade is framed
-// whole by the default camera, where a single cascade shows a fragment of it. With --mesh the
+// whole by the default camera, where a single cascade shows a fragment of it; a roofed interior's
+// default view looks into it rather than at its roof. With --mesh the
 // primary surfaces are the source triangles, rasterized; bad use of it is a one-line error.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
+#include <utility>
+
+#include <glm/glm.hpp>
 
 #include "tests/support/run_cli.h"
 #include "tests/support/test_data.h"
@@ -105,6 +111,55 @@ TEST(RenderStackCli, MeshPrimaryMisuseIsAOneLineError) {
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << ": " << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args << ": " << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "x.png")) << c.args;
+  }
+}
+
+// "camera px,py,pz,..." of render's summary line.
+glm::dvec3 renderedCameraPosition(const std::string& out) {
+  std::smatch m;
+  const std::string number = "(-?[0-9.]+)";
+  if (!std::regex_search(out, m, std::regex("camera " + number + "," + number + "," + number)))
+    return glm::dvec3(NAN);
+  return {std::stod(m[1]), std::stod(m[2]), std::stod(m[3])};
+}
+
+// A roofed room open on its +x side (floor, roof, three walls of boxes), and the same floor with
+// nothing over it: seen from above, the first is all roof, so the default view goes to where it
+// sees in (through the open side); the second keeps the overview from above.
+TEST(RenderStackCli, DefaultViewOfARoofedInteriorLooksIntoIt) {
+  const auto dir = test::scratchDir("render-interior");
+  const std::string room = R"({"boxes": [
+    {"min": [0, 0, 0], "max": [6, 0.2, 4], "albedo": [0.7, 0.7, 0.7]},
+    {"min": [0, 2.8, 0], "max": [6, 3, 4], "albedo": [0.5, 0.3, 0.2]},
+    {"min": [0, 0.2, 0], "max": [0.2, 2.8, 4], "albedo": [0.8, 0.8, 0.8]},
+    {"min": [0, 0.2, 0], "max": [6, 2.8, 0.2], "albedo": [0.8, 0.1, 0.1]},
+    {"min": [0, 0.2, 3.8], "max": [6, 2.8, 4], "albedo": [0.1, 0.8, 0.1]},
+    {"min": [2.5, 0.2, 1.5], "max": [3.5, 1.2, 2.5], "albedo": [0.9, 0.9, 0.9]}]})";
+  const std::string open = R"({"boxes": [
+    {"min": [0, 0, 0], "max": [6, 0.2, 4], "albedo": [0.7, 0.7, 0.7]},
+    {"min": [2.5, 0.2, 1.5], "max": [3.5, 1.2, 2.5], "albedo": [0.9, 0.9, 0.9]}]})";
+  for (const auto& [name, json] : {std::pair{"room", room}, std::pair{"open", open}}) {
+    const auto layout = dir / (std::string(name) + ".json");
+    std::ofstream(layout) << json;
+    const auto world = (dir / name).string();
+    const test::CliResult imp = test::runCli(
+        SDFSTREAM_CLI, "import " + layout.string() + " -o " + world + " --voxel 0.05");
+    ASSERT_EQ(imp.exitCode, 0) << imp.err;
+    const test::CliResult r =
+        test::runCli(SDFSTREAM_CLI, "render " + world + " -o " + (dir / name).string() +
+                                        ".png --width 96 --height 54 --gi off");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const glm::dvec3 camera = renderedCameraPosition(r.out);
+    if (std::string(name) == "room") {
+      // Below the roof, level with the room, on the open side (inside or outside it).
+      EXPECT_LT(camera.y, 2.8) << r.out;
+      EXPECT_GT(camera.x, 3.0) << r.out;
+      EXPECT_GT(camera.z, 0.2) << r.out;
+      EXPECT_LT(camera.z, 3.8) << r.out;
+      EXPECT_GE(hitFraction(r.out), 0.6) << r.out;
+    } else {
+      EXPECT_GT(camera.y, 3.0) << "the open floor keeps the view from above: " << r.out;
+    }
   }
 }
 
