@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -46,9 +47,11 @@ struct TextureImage {
 // PNG's chunks are checked first (world/png_chunks.h): a malformed PNG is the one error thrown,
 // naming the texture.
 std::shared_ptr<TextureImage> readTexture(const fs::path& file) {
-  std::ifstream probe(file, std::ios::binary);
+  // A regular file only: a name the OBJ chose may be a directory, a device or a FIFO.
   std::error_code ec;
-  if (!probe || fs::is_directory(file, ec)) return nullptr;
+  if (!fs::is_regular_file(file, ec)) return nullptr;
+  std::ifstream probe(file, std::ios::binary);
+  if (!probe) return nullptr;
   if (hasPngSignature(probe)) checkPngChunks(probe, fs::file_size(file, ec), file.string());
   probe.close();
   int w = 0, h = 0, channels = 0;
@@ -77,6 +80,8 @@ struct LibraryMaterial {
 
 // Reads one MTL library into `out` (by material name). An unreadable library adds nothing.
 void readMaterialLibrary(const fs::path& file, std::map<std::string, LibraryMaterial>& out) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;  // as for textures: no devices or FIFOs
   std::ifstream in(file);
   if (!in) return;
   std::string line;
@@ -164,6 +169,7 @@ TriangleScene loadObj(const fs::path& path) {
   grey.name = "default";
   scene.materials.push_back(grey);
   std::map<std::string, LibraryMaterial> library;
+  std::set<std::string> librariesRead;
   std::map<std::string, std::uint32_t> used;  // material name → index in scene.materials
   std::vector<TextureTaps> taps(1);           // one per scene material
   std::uint32_t material = 0;
@@ -195,7 +201,9 @@ TriangleScene loadObj(const fs::path& path) {
       texcoords.push_back(t);
     } else if (tag == "mtllib") {
       std::string name;
-      while (ls >> name) readMaterialLibrary(path.parent_path() / name, library);
+      while (ls >> name)  // each library once, however often it is named
+        if (librariesRead.insert(name).second)
+          readMaterialLibrary(path.parent_path() / name, library);
     } else if (tag == "usemtl") {
       std::string name;
       ls >> name;

@@ -10,6 +10,7 @@
 // Ke is its emission. An absent or unreadable library, an unknown material name and an
 // unreadable texture fall back to the grey default, as viewers do; a malformed number in a
 // library is an error naming that file and line. Faces before any usemtl use the grey default.
+// Libraries and textures are read only when they are regular files (not devices or FIFOs).
 #pragma once
 
 #include <filesystem>
