@@ -153,8 +153,8 @@ class FlyThrough {
                                world_.render().renderer.settings.light.relightPageBudget) +
         objectSummaryMarkdown(giMetrics_, gi);
     std::string md = "# Fly-through summary\n\nWorld: " + o_.world.string() +
-                     (o_.sunSweep ? "\n\nDay-to-dusk sweep" + sweepNote() : std::string()) + "\n\n" +
-                     summaryMarkdown(summary) + giMd + memoryMarkdown();
+                     (o_.sunSweep ? "\n\nDay-to-dusk sweep" + sweepNote() : std::string()) +
+                     "\n\n" + summaryMarkdown(summary) + giMd + memoryMarkdown();
     const auto failed = world_.loader().failedTiles();
     if (!failed.empty()) {
       md += "\nTiles that failed to load (reported, never treated as empty):\n";

@@ -16,8 +16,7 @@ namespace sdfstream {
 
 // The default still view of a world: its bounds from above and in front, steep enough to look
 // into open courtyards, as close as the picture's aspect (width / height) allows.
-Camera defaultStillCamera(const glm::dvec3& boundsMin, const glm::dvec3& boundsMax,
-                          double aspect);
+Camera defaultStillCamera(const glm::dvec3& boundsMin, const glm::dvec3& boundsMax, double aspect);
 
 // The default still view of a world pack as loaded: the overview above, unless most of what it
 // sees is roof. A roofed interior (Sponza's galleries, a closed box) seen from above shows its

@@ -30,7 +30,8 @@ SceneLights daylightAt(const SceneLights& given, double elevationDegrees) {
     const double e0 = sunElevationDegrees(l.direction);
     glm::dvec2 horizontal(l.direction.x, l.direction.z);
     horizontal = glm::length(horizontal) > 1e-6 ? glm::normalize(horizontal) : glm::dvec2(1, 0);
-    const double c = std::cos(elevationDegrees * kDegrees), s = std::sin(elevationDegrees * kDegrees);
+    const double c = std::cos(elevationDegrees * kDegrees),
+                 s = std::sin(elevationDegrees * kDegrees);
     l.direction = glm::vec3(glm::dvec3(horizontal.x * c, -s, horizontal.y * c));
     const double dm = relativeAirMass(elevationDegrees) - relativeAirMass(e0);
     const glm::vec3 reddening(glm::exp(-kOpticalDepth * dm));
@@ -40,10 +41,12 @@ SceneLights daylightAt(const SceneLights& given, double elevationDegrees) {
       const double ratio = std::max(0.0, s) / std::max(1e-3, std::sin(e0 * kDegrees));
       const float scale = float(std::max(0.05, std::pow(ratio, 0.7)));
       // The horizon takes on the setting sun's hue, normalised to keep its brightness.
-      const glm::vec3 hue = reddening / std::max(1e-6f, (reddening.r + reddening.g + reddening.b) / 3);
+      const glm::vec3 hue =
+          reddening / std::max(1e-6f, (reddening.r + reddening.g + reddening.b) / 3);
       const float tint = std::clamp(1.0f - scale, 0.0f, 1.0f) * 0.6f;
       out.sky.zenith = given.sky.zenith * std::min(1.0f, scale);
-      out.sky.horizon = given.sky.horizon * std::min(1.0f, scale) * glm::mix(glm::vec3(1.0f), hue, tint);
+      out.sky.horizon =
+          given.sky.horizon * std::min(1.0f, scale) * glm::mix(glm::vec3(1.0f), hue, tint);
     }
   }
   return out;

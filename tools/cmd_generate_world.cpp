@@ -56,13 +56,16 @@ int runGenerateWorld(int argc, char** argv) {
       g.layout.c_str(), o.map.c_str(), g.widthPixels, g.heightPixels, g.sourceMetresPerPixel,
       g.metresPerPixel, o.sizeKm, g.metresPerPixel * (g.heightPixels - 1) / 1000.0, o.heightScale,
       g.placements,
-      g.furniture ? " (incl. sweethome3d-furniture CC0)" : " (sweethome3d-furniture not installed)");
+      g.furniture ? " (incl. sweethome3d-furniture CC0)"
+                  : " (sweethome3d-furniture not installed)");
   if (!g.flight.empty())
-    std::printf("  built    %d villages, %d houses, %d street lamps, a hall (%zu boxes)\n"
-                "  flight   %s\n",
-                g.villages, g.houses, g.lamps, g.boxes, g.flight.c_str());
-  std::printf("import it with:\n  sdfstream import %s -o WORLD --voxel 1 --lods 6 --tile-voxels 256\n",
-              g.layout.c_str());
+    std::printf(
+        "  built    %d villages, %d houses, %d street lamps, a hall (%zu boxes)\n"
+        "  flight   %s\n",
+        g.villages, g.houses, g.lamps, g.boxes, g.flight.c_str());
+  std::printf(
+      "import it with:\n  sdfstream import %s -o WORLD --voxel 1 --lods 6 --tile-voxels 256\n",
+      g.layout.c_str());
   return 0;
 }
 

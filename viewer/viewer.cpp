@@ -243,10 +243,11 @@ class ViewSession {
                   required ? 100.0 * double(resident) / double(required) : 100.0,
                   (unsigned long long)required, stream_.missingPages,
                   double(stream_.bytesUploaded) / double(1 << 20));
-    std::snprintf(
-        line[2], sizeof line[2], "GI %s: %u probes updated, %u rays  objects %u  view %s%s",
-        indirect_ ? "on" : "off (direct only, probes paused)", gi_.probes.probesUpdated, gi_.probes.raysTraced,
-        gi_.objectInstances, std::string(viewModeName(mode_)).c_str(), paused_ ? "  PAUSED" : "");
+    std::snprintf(line[2], sizeof line[2],
+                  "GI %s: %u probes updated, %u rays  objects %u  view %s%s",
+                  indirect_ ? "on" : "off (direct only, probes paused)", gi_.probes.probesUpdated,
+                  gi_.probes.raysTraced, gi_.objectInstances,
+                  std::string(viewModeName(mode_)).c_str(), paused_ ? "  PAUSED" : "");
     std::snprintf(line[3], sizeof line[3], "%s  speed %.1f m/s  %dx%d",
                   sunText(world_->render().lights).c_str(), camera_->speed(), width, height);
     std::vector<std::string> lines(std::begin(line), std::end(line));

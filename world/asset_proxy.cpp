@@ -30,9 +30,9 @@ std::size_t writeProxyObj(const TriangleScene& scene, std::size_t targetTriangle
     std::vector<unsigned>& out = kept[m];
     out.resize(in.size());
     if (share * 3 < in.size())
-      out.resize(meshopt_simplifySloppy(out.data(), in.data(), in.size(),
-                                        &scene.positions[0].x, scene.positions.size(),
-                                        sizeof(glm::vec3), share * 3, 1.0f, nullptr));
+      out.resize(meshopt_simplifySloppy(out.data(), in.data(), in.size(), &scene.positions[0].x,
+                                        scene.positions.size(), sizeof(glm::vec3), share * 3, 1.0f,
+                                        nullptr));
     else
       out = in;
     for (unsigned& i : out) {

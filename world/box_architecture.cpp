@@ -39,8 +39,7 @@ nlohmann::json boxesJson(const std::vector<LayoutBox>& boxes) {
     nlohmann::json j = {{"min", {b.min.x, b.min.y, b.min.z}},
                         {"max", {b.max.x, b.max.y, b.max.z}},
                         {"albedo", {b.albedo.r, b.albedo.g, b.albedo.b}}};
-    if (b.emission != glm::vec3(0.0f))
-      j["emission"] = {b.emission.r, b.emission.g, b.emission.b};
+    if (b.emission != glm::vec3(0.0f)) j["emission"] = {b.emission.r, b.emission.g, b.emission.b};
     out.push_back(std::move(j));
   }
   return out;
@@ -52,8 +51,8 @@ Footing footingOf(const Heightfield& field, glm::dvec2 lo, glm::dvec2 hi) {
   Footing f{1e300, -1e300};
   for (int i = 0; i < nx; ++i)
     for (int k = 0; k < nz; ++k) {
-      const double h = field.heightAt(lo.x + (hi.x - lo.x) * i / (nx - 1),
-                                      lo.y + (hi.y - lo.y) * k / (nz - 1));
+      const double h =
+          field.heightAt(lo.x + (hi.x - lo.x) * i / (nx - 1), lo.y + (hi.y - lo.y) * k / (nz - 1));
       f.low = std::min(f.low, h);
       f.high = std::max(f.high, h);
     }
@@ -82,7 +81,8 @@ void addHouse(std::vector<LayoutBox>& out, const Heightfield& field, const House
       const bool door = side == -1 && w == windows / 2;
       const double y0 = door ? floor : floor + 0.45 * h.wallHeight - 0.9;
       const double y1 = door ? floor + 2.4 : y0 + 1.8;
-      const glm::dvec2 p = at(u - (door ? 0.7 : 0.8), face), q = at(u + (door ? 0.7 : 0.8), face + side * 0.3);
+      const glm::dvec2 p = at(u - (door ? 0.7 : 0.8), face),
+                       q = at(u + (door ? 0.7 : 0.8), face + side * 0.3);
       push(out, {p.x, y0, p.y}, {q.x, y1, q.y}, door ? kDoorWood : kGlass);
     }
   }
@@ -114,7 +114,8 @@ void addRoad(std::vector<LayoutBox>& out, const Heightfield& field, glm::dvec2 f
     lo[1 - axis] = line - width / 2.0;
     hi[1 - axis] = line + width / 2.0;
     const Footing f = footingOf(field, lo, hi);
-    push(out, {lo.x, f.low - kMinWallMetres, lo.y}, {hi.x, f.high + kRoadAboveGround, hi.y}, kAsphalt);
+    push(out, {lo.x, f.low - kMinWallMetres, lo.y}, {hi.x, f.high + kRoadAboveGround, hi.y},
+         kAsphalt);
   }
 }
 
@@ -123,8 +124,9 @@ void addStreetLamp(std::vector<LayoutBox>& out, const Heightfield& field, glm::d
   const double g = field.heightAt(at.x, at.y);
   const double r = kMinWallMetres / 2.0;
   push(out, {at.x - r, g - 0.5, at.y - r}, {at.x + r, g + height, at.y + r}, kIron);
-  push(out, {at.x - 0.5, g + height, at.y - 0.5}, {at.x + 0.5, g + height + kMinWallMetres, at.y + 0.5},
-       glm::vec3(0.9f), kWarmLamp * radiance);
+  push(out, {at.x - 0.5, g + height, at.y - 0.5},
+       {at.x + 0.5, g + height + kMinWallMetres, at.y + 0.5}, glm::vec3(0.9f),
+       kWarmLamp * radiance);
 }
 
 double addHall(std::vector<LayoutBox>& out, const Heightfield& field, const HallDesc& hall) {

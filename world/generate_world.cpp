@@ -26,7 +26,7 @@ using Kind = InputErrorKind;
 const fs::path kTriggerData = "/usr/share/games/trigger-rally/data.zip";
 const fs::path kFurniture = "/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f";
 const fs::path kScopia = "/usr/share/sweethome3d/furniture/Scopia.sh3f";  // CC-BY 3.0
-constexpr double kTriggerMetresPerPixel = 5.0;  // shared/data/README.md
+constexpr double kTriggerMetresPerPixel = 5.0;                            // shared/data/README.md
 constexpr const char* kCredits =
     ". Models: Sweet Home 3D furniture (Debian sweethome3d-furniture): Scopia Visual Interfaces "
     "Systems (CC-BY 3.0) and BlendSwap contributors (CC0); terrain: Trigger Rally (GPL-2+).";
@@ -113,8 +113,8 @@ nlohmann::json restingPlacement(const Heightfield& field, glm::dvec2 at, double 
   double ground = field.heightAt(at.x, at.y);
   for (int k = 0; k < 8; ++k) {
     const double a = k * M_PI / 4;
-    ground = std::min(ground, field.heightAt(at.x + 0.5 * size * std::cos(a),
-                                             at.y + 0.5 * size * std::sin(a)));
+    ground = std::min(
+        ground, field.heightAt(at.x + 0.5 * size * std::cos(a), at.y + 0.5 * size * std::sin(a)));
   }
   const double y = floor > ground ? floor : ground - 0.05 * size;
   return {{"translation", {at.x, y, at.y}},
@@ -192,8 +192,8 @@ std::vector<std::vector<PlanModel>> planModels(const fs::path& dir) {
   std::vector<ZipMember> scopia = listZip(kScopia), cc0 = listZip(kFurniture);
   for (const Source& s : sources) {
     const fs::path folder = dir / "assets" / s.name;
-    extractFolder(*s.zip, s.zip == &kScopia ? scopia : cc0,
-                  std::string(s.folder) + s.name + "/", folder);
+    extractFolder(*s.zip, s.zip == &kScopia ? scopia : cc0, std::string(s.folder) + s.name + "/",
+                  folder);
     const TriangleScene scene = loadObj(folder / (std::string(s.name) + ".obj"));
     const fs::path proxy = folder / (std::string(s.name) + "-proxy.obj");
     writeProxyObj(scene, s.triangles, proxy);
@@ -214,7 +214,8 @@ nlohmann::json planInstances(const WorldPlan& plan, const Heightfield& field, co
   SplitMixRng rng{std::uint64_t(seed) * 0xD1B54A32D192ED03ull + 3};
   for (const PlannedAsset& a : plan.assets) {
     const auto& family = models[std::size_t(a.kind)];
-    const PlanModel& m = family[std::min(family.size() - 1, std::size_t(rng.uniform() * family.size()))];
+    const PlanModel& m =
+        family[std::min(family.size() - 1, std::size_t(rng.uniform() * family.size()))];
     const double yaw = a.yaw + (m.zAlong ? M_PI / 2 : 0.0);
     for (auto& [model, placements] : byModel)
       if (model == &m) placements.push_back(restingPlacement(field, a.at, a.size, yaw, a.floor));

@@ -38,8 +38,8 @@ struct GeneratedWorld {
   int villages = 0, houses = 0, lamps = 0;
   std::size_t boxes = 0;
   std::filesystem::path flight;  // dir/flight.txt, or empty without settlements
-  bool furniture = false;  // the furniture package was installed and used
-  std::string note;        // "" or one line about a non-square heightmap
+  bool furniture = false;        // the furniture package was installed and used
+  std::string note;              // "" or one line about a non-square heightmap
 };
 
 // Extracts the heightmap (and the models) from their packages' zip files into dir and writes

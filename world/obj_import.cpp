@@ -90,9 +90,9 @@ void readMaterialLibrary(const fs::path& file, std::map<std::string, LibraryMate
   auto colour = [&](std::istringstream& ls, const char* tag) {
     glm::vec3 c;
     if (!(ls >> c.x >> c.y >> c.z))
-      throw InputError(InputErrorKind::Malformed, file.string(),
-                       "line " + std::to_string(lineNo) + ": expected 3 numbers after '" + tag +
-                           "'");
+      throw InputError(
+          InputErrorKind::Malformed, file.string(),
+          "line " + std::to_string(lineNo) + ": expected 3 numbers after '" + tag + "'");
     if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
       throw InputError(InputErrorKind::NonFinite, file.string(),
                        "line " + std::to_string(lineNo) + ": " + tag + " is NaN or infinite");
@@ -132,9 +132,9 @@ struct TextureTaps {
 // 0-based index below `size`. A bad position index fails (the face cannot be built); a texture
 // coordinate index only tints a material, so an absent or bad one is nullopt (exporters do write
 // them one past the end).
-std::optional<std::uint32_t> cornerIndex(const std::string& token, int part, std::size_t size,
-                                         const std::function<void(InputErrorKind,
-                                                                  const std::string&)>& fail) {
+std::optional<std::uint32_t> cornerIndex(
+    const std::string& token, int part, std::size_t size,
+    const std::function<void(InputErrorKind, const std::string&)>& fail) {
   std::size_t begin = 0;
   for (int p = 0; p < part; ++p) {
     begin = token.find('/', begin);
@@ -189,7 +189,8 @@ TriangleScene loadObj(const fs::path& path) {
     if (!(ls >> tag) || tag[0] == '#') continue;
     if (tag == "v") {
       glm::vec3 p;
-      if (!(ls >> p.x >> p.y >> p.z)) fail(InputErrorKind::Malformed, "expected 3 numbers after 'v'");
+      if (!(ls >> p.x >> p.y >> p.z))
+        fail(InputErrorKind::Malformed, "expected 3 numbers after 'v'");
       if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         fail(InputErrorKind::NonFinite, "vertex is NaN or infinite");
       scene.positions.push_back(p);

@@ -176,12 +176,11 @@ WorldPlan planWorld(const Heightfield& field, double size, std::uint64_t seed) {
     double u, v, height;
     bool inHall;
   };
-  for (const Waypoint& w : {Waypoint{-135, -25, 32, false}, Waypoint{-95, -8, 16, false},
-                            Waypoint{-50, 0, 9.0, false}, Waypoint{10, 0, 8.0, false},
-                            Waypoint{50, 0, 5.5, true}, Waypoint{88, 0, 5.5, true},
-                            Waypoint{126, 0, 5.5, true}, Waypoint{170, 0, 12, false},
-                            Waypoint{240, 15, 30, false}, Waypoint{360, 50, 55, false},
-                            Waypoint{560, 110, 80, false}}) {
+  for (const Waypoint& w :
+       {Waypoint{-135, -25, 32, false}, Waypoint{-95, -8, 16, false}, Waypoint{-50, 0, 9.0, false},
+        Waypoint{10, 0, 8.0, false}, Waypoint{50, 0, 5.5, true}, Waypoint{88, 0, 5.5, true},
+        Waypoint{126, 0, 5.5, true}, Waypoint{170, 0, 12, false}, Waypoint{240, 15, 30, false},
+        Waypoint{360, 50, 55, false}, Waypoint{560, 110, 80, false}}) {
     const glm::dvec2 p = main.world(w.u, w.v);
     const double base = w.inHall ? floor : groundNear(field, p, 15.0);
     plan.flight.push_back({p.x, base + w.height, p.y});

@@ -22,17 +22,17 @@ constexpr int kPlanAssetCount = 7;
 
 struct PlannedAsset {
   PlanAsset kind;
-  glm::dvec2 at{0.0};  // world x, z; rests on the ground
-  double size = 1.0;   // largest extent, metres
-  double yaw = 0.0;    // radians about +Y
+  glm::dvec2 at{0.0};     // world x, z; rests on the ground
+  double size = 1.0;      // largest extent, metres
+  double yaw = 0.0;       // radians about +Y
   double floor = -1e300;  // stands on max(ground, floor): the hall's floor for things inside it
 };
 
 struct WorldPlan {
   std::vector<LayoutBox> boxes;
   std::vector<PlannedAsset> assets;
-  std::vector<glm::dvec3> flight;  // the showcase route, world metres, at least 2 points
-  glm::dvec2 showcase{0.0};        // the showcase village's street centre
+  std::vector<glm::dvec3> flight;       // the showcase route, world metres, at least 2 points
+  glm::dvec2 showcase{0.0};             // the showcase village's street centre
   glm::dvec2 hallLo{0.0}, hallHi{0.0};  // the hall's outer walls (x, z)
   double hallFloor = 0.0, hallCeiling = 0.0;
   int villages = 0, houses = 0, lamps = 0;

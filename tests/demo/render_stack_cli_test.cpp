@@ -142,8 +142,8 @@ TEST(RenderStackCli, DefaultViewOfARoofedInteriorLooksIntoIt) {
     const auto layout = dir / (std::string(name) + ".json");
     std::ofstream(layout) << json;
     const auto world = (dir / name).string();
-    const test::CliResult imp = test::runCli(
-        SDFSTREAM_CLI, "import " + layout.string() + " -o " + world + " --voxel 0.05");
+    const test::CliResult imp =
+        test::runCli(SDFSTREAM_CLI, "import " + layout.string() + " -o " + world + " --voxel 0.05");
     ASSERT_EQ(imp.exitCode, 0) << imp.err;
     const test::CliResult r =
         test::runCli(SDFSTREAM_CLI, "render " + world + " -o " + (dir / name).string() +

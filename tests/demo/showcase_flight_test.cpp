@@ -21,12 +21,11 @@ TEST(ShowcaseFlight, ClearsEveryBoxAndTheGroundAndCrossesTheHall) {
   for (double s = 0.0; s <= length; s += 0.5) {
     const glm::dvec3 p = path.position(s);
     for (const LayoutBox& b : plan.boxes)
-      ASSERT_FALSE(test::insideBox(b, p, 1.0))
-          << "at " << s << " m the camera (" << p.x << ", " << p.y << ", " << p.z
-          << ") is within 1 m of a box";
+      ASSERT_FALSE(test::insideBox(b, p, 1.0)) << "at " << s << " m the camera (" << p.x << ", "
+                                               << p.y << ", " << p.z << ") is within 1 m of a box";
     lowest = std::min(lowest, p.y - g.terrain->heightAt(p.x, p.z));
-    const bool inHall = p.x > plan.hallLo.x && p.x < plan.hallHi.x && p.z > plan.hallLo.y &&
-                        p.z < plan.hallHi.y;
+    const bool inHall =
+        p.x > plan.hallLo.x && p.x < plan.hallHi.x && p.z > plan.hallLo.y && p.z < plan.hallHi.y;
     if (inHall) {
       EXPECT_LT(p.y, plan.hallCeiling - 2.0);
       hallMetres += 0.5;

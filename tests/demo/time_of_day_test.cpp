@@ -35,8 +35,7 @@ TEST(TimeOfDay, AirMassIsOneOverheadAndAboutThirtyEightAtTheHorizon) {
 TEST(TimeOfDay, AtItsOwnElevationNothingChanges) {
   const SceneLights given = noon();
   const double e0 = sunElevationDegrees(given.lights[0].direction);
-  EXPECT_NEAR(e0, std::asin(0.7 / glm::length(glm::vec3(0.45f, -0.7f, -0.55f))) * 180 / M_PI,
-              1e-4);
+  EXPECT_NEAR(e0, std::asin(0.7 / glm::length(glm::vec3(0.45f, -0.7f, -0.55f))) * 180 / M_PI, 1e-4);
   const SceneLights same = daylightAt(given, e0);
   EXPECT_NEAR(glm::length(same.lights[0].direction - given.lights[0].direction), 0.0f, 1e-5f);
   EXPECT_NEAR(glm::length(same.lights[0].color - given.lights[0].color), 0.0f, 1e-5f);
@@ -54,7 +53,8 @@ TEST(TimeOfDay, SettingSunReddensDimsAndKeepsItsAzimuth) {
     const SceneLight& sun = at.lights[0];
     EXPECT_NEAR(sunElevationDegrees(sun.direction), e, 1e-3);
     // Same azimuth: the horizontal part points the same way.
-    const glm::vec2 h0 = glm::normalize(glm::vec2(given.lights[0].direction.x, given.lights[0].direction.z));
+    const glm::vec2 h0 =
+        glm::normalize(glm::vec2(given.lights[0].direction.x, given.lights[0].direction.z));
     const glm::vec2 h = glm::normalize(glm::vec2(sun.direction.x, sun.direction.z));
     EXPECT_NEAR(glm::dot(h0, h), 1.0f, 1e-5f);
     EXPECT_LT(sun.color.g, previous.g) << e;

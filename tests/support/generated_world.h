@@ -29,8 +29,8 @@ inline GeneratedPlan generatedPlan(const std::string& scratch) {
   o.settlements = false;  // only the terrain is wanted: the plan is made here
   generateWorld(o);
   GeneratedPlan g;
-  g.terrain = std::make_unique<Heightfield>(
-      Heightfield::load(*parseLayout(o.dir / "layout.json").terrain));
+  g.terrain =
+      std::make_unique<Heightfield>(Heightfield::load(*parseLayout(o.dir / "layout.json").terrain));
   g.plan = planWorld(*g.terrain, o.sizeKm * 1000.0, std::uint64_t(o.seed));
   return g;
 }
@@ -42,9 +42,9 @@ inline bool insideBox(const LayoutBox& b, const glm::dvec3& p, double grow) {
 
 }  // namespace sdfstream::test
 
-#define SDFSTREAM_REQUIRE_WORLD_PACKAGES()                                                   \
-  do {                                                                                       \
-    if (!::sdfstream::test::worldPackagesPresent())                                          \
+#define SDFSTREAM_REQUIRE_WORLD_PACKAGES()                                                     \
+  do {                                                                                         \
+    if (!::sdfstream::test::worldPackagesPresent())                                            \
       GTEST_SKIP() << "skipped: trigger-rally-data or sweethome3d-furniture is not installed " \
-                      "(scripts/setup installs both)";                                       \
+                      "(scripts/setup installs both)";                                         \
   } while (0)

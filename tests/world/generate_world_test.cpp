@@ -50,7 +50,8 @@ TEST(GenerateWorld, SameSeedSameWorldAndTheLayoutLoads) {
       EXPECT_EQ(la.assets[i].placements[k].translation, lb.assets[i].placements[k].translation);
   }
   // Every model the plan uses loads, stand-ins included.
-  for (const LayoutAsset& asset : la.assets) EXPECT_NO_THROW(loadLayoutAsset(la, asset)) << asset.key;
+  for (const LayoutAsset& asset : la.assets)
+    EXPECT_NO_THROW(loadLayoutAsset(la, asset)) << asset.key;
   // Without settlements: the scattered assets only, no flight.
   o.dir = test::scratchDir("generate-world-plain");
   o.settlements = false;
@@ -84,8 +85,7 @@ class WorldPlanTest : public ::testing::Test {
 TEST_F(WorldPlanTest, TreesStandClearOfEveryBuildingAndRoad) {
   int trees = 0;
   for (const PlannedAsset& a : plan_.assets) {
-    if (a.kind != PlanAsset::Conifer && a.kind != PlanAsset::Broadleaf &&
-        a.kind != PlanAsset::Bush)
+    if (a.kind != PlanAsset::Conifer && a.kind != PlanAsset::Broadleaf && a.kind != PlanAsset::Bush)
       continue;
     ++trees;
     for (const LayoutBox& b : plan_.boxes)

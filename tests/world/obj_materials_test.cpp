@@ -116,8 +116,8 @@ TEST(AssetProxy, SimplifiesToTheBudgetAndKeepsFlatColours) {
     for (int j = 0; j < 64; ++j) {
       const auto base = std::uint32_t(soup.positions.size());
       const glm::vec3 p(float(i), 0.1f * float((i * 7 + j * 3) % 5), float(j));
-      for (const glm::vec3& d : {glm::vec3(0), glm::vec3(0.9f, 0, 0), glm::vec3(0.9f, 0, 0.9f),
-                                 glm::vec3(0, 0, 0.9f)})
+      for (const glm::vec3& d :
+           {glm::vec3(0), glm::vec3(0.9f, 0, 0), glm::vec3(0.9f, 0, 0.9f), glm::vec3(0, 0, 0.9f)})
         soup.positions.push_back(p + d);
       soup.triangles.push_back({base, base + 1, base + 2});
       soup.triangles.push_back({base, base + 2, base + 3});
