@@ -37,14 +37,18 @@ namespace {
 
 // The view's primary hits on the CPU at a small size, on the stack as it stands.
 struct TracedView {
-  std::vector<gpu_shared::TraceRay> rays;
+  std::vector<gpu_shared::TraceRay> rays;  // stack space: cascade-0 voxels
   std::vector<gpu_shared::ShadedHit> hits;
+  glm::dvec3 stackMinWorld{0.0};  // the stack's frame, to bring hits back to world metres
+  double voxelSize0 = 0.0;
 };
 
 TracedView traceSmall(StreamedGi& world, const Camera& camera, int width, int height) {
   const CascadeStackImage img = world.stack().stackImage();
   const RenderOptions& r = world.render();
   TracedView v;
+  v.stackMinWorld = img.cascade0MinWorld;
+  v.voxelSize0 = img.voxelSize0;
   v.rays = cameraRays(camera, width, height, img);
   v.hits = shadePrimaryCpu(img, v.rays, toGpu(r.lights.lights, img), toGpu(r.lights.sky),
                            r.renderer.shading, {});
@@ -59,7 +63,6 @@ Camera defaultStillCamera(StreamedGi& world, double aspect) {
   world.settle(stillViewCentre(overview, m.boundsMin, m.boundsMax),
                glm::normalize(overview.target - overview.position));
   const TracedView over = traceSmall(world, overview, 96, 54);
-  const CascadeStackImage img = world.stack().stackImage();
   const double roofLine = m.boundsMin.y + 0.8 * (m.boundsMax.y - m.boundsMin.y);
   std::size_t hit = 0, roof = 0;
   for (std::size_t i = 0; i < over.hits.size(); ++i) {
@@ -67,7 +70,7 @@ Camera defaultStillCamera(StreamedGi& world, double aspect) {
     ++hit;
     const float t = over.hits[i].normalT.w;
     const glm::vec3 p = glm::vec3(over.rays[i].originTMin) + glm::vec3(over.rays[i].dirTMax) * t;
-    const double y = img.cascade0MinWorld.y + double(p.y) * img.voxelSize0;
+    const double y = over.stackMinWorld.y + double(p.y) * over.voxelSize0;
     roof += over.hits[i].normalT.y > 0.7f && y > roofLine;
   }
   if (hit == 0 || 2 * roof <= hit) return overview;
@@ -84,7 +87,6 @@ Camera defaultStillCamera(StreamedGi& world, double aspect) {
         world.settle(stillViewCentre(c, m.boundsMin, m.boundsMax),
                      glm::normalize(c.target - c.position));
         const TracedView v = traceSmall(world, c, 48, 27);
-        const double voxel = world.stack().stackImage().voxelSize0;
         double score = 0.0;
         for (std::size_t i = 0; i < v.hits.size(); ++i) {
           if (!(v.hits[i].flags & gpu_shared::kHitFlagHit)) continue;
@@ -96,7 +98,7 @@ Camera defaultStillCamera(StreamedGi& world, double aspect) {
               const double t1 = (m.boundsMax[k] - c.position[k]) / d[k];
               enter = std::max(enter, std::min(t0, t1));
             }
-          score += std::max(0.0, double(v.hits[i].normalT.w) * voxel - enter);
+          score += std::max(0.0, double(v.hits[i].normalT.w) * v.voxelSize0 - enter);
         }
         // A view from outside frames the whole opening: preferred unless an inside view sees
         // half as deep again (Sponza's ends are walls: from outside they score about nothing).

@@ -163,6 +163,7 @@ nlohmann::json scatter(const std::vector<AssetKind>& kinds, const Heightfield& f
 struct PlanModel {
   fs::path file;
   bool zAlong = false;
+  nlohmann::json placements = nlohmann::json::array();  // filled by planInstances
 };
 
 std::vector<std::vector<PlanModel>> planModels(const fs::path& dir) {
@@ -207,23 +208,20 @@ std::vector<std::vector<PlanModel>> planModels(const fs::path& dir) {
 // family's models at random.
 nlohmann::json planInstances(const WorldPlan& plan, const Heightfield& field, const fs::path& dir,
                              int seed, int* placed) {
-  const std::vector<std::vector<PlanModel>> models = planModels(dir);
-  std::vector<std::pair<const PlanModel*, nlohmann::json>> byModel;
-  for (const auto& family : models)
-    for (const PlanModel& m : family) byModel.push_back({&m, nlohmann::json::array()});
+  std::vector<std::vector<PlanModel>> models = planModels(dir);
   SplitMixRng rng{std::uint64_t(seed) * 0xD1B54A32D192ED03ull + 3};
   for (const PlannedAsset& a : plan.assets) {
-    const auto& family = models[std::size_t(a.kind)];
-    const PlanModel& m =
+    auto& family = models[std::size_t(a.kind)];
+    PlanModel& m =
         family[std::min(family.size() - 1, std::size_t(rng.uniform() * family.size()))];
     const double yaw = a.yaw + (m.zAlong ? M_PI / 2 : 0.0);
-    for (auto& [model, placements] : byModel)
-      if (model == &m) placements.push_back(restingPlacement(field, a.at, a.size, yaw, a.floor));
+    m.placements.push_back(restingPlacement(field, a.at, a.size, yaw, a.floor));
     ++*placed;
   }
   nlohmann::json instances = nlohmann::json::array();
-  for (auto& [model, placements] : byModel)
-    if (!placements.empty()) instances.push_back(instanceEntry(model->file, std::move(placements)));
+  for (auto& family : models)
+    for (PlanModel& m : family)
+      if (!m.placements.empty()) instances.push_back(instanceEntry(m.file, std::move(m.placements)));
   return instances;
 }
 

@@ -28,6 +28,19 @@ float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
+// Three finite numbers after `tag` (a vertex's "v", a material's "Kd"/"Ke"); fail(kind, what)
+// throws, naming the file and line.
+template <typename Fail>
+glm::vec3 readTriple(std::istringstream& ls, const char* tag, const std::string& nonFinite,
+                     const Fail& fail) {
+  glm::vec3 v(0.0f);
+  if (!(ls >> v.x >> v.y >> v.z))
+    fail(InputErrorKind::Malformed, std::string("expected 3 numbers after '") + tag + "'");
+  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+    fail(InputErrorKind::NonFinite, nonFinite);
+  return v;
+}
+
 // A decoded map_Kd image (linear RGB), tapped at face UVs to find a material's mean colour.
 struct TextureImage {
   int width = 0, height = 0;
@@ -87,16 +100,12 @@ void readMaterialLibrary(const fs::path& file, std::map<std::string, LibraryMate
   std::string line;
   int lineNo = 0;
   LibraryMaterial* current = nullptr;
+  auto fail = [&](InputErrorKind kind, const std::string& what) {
+    throw InputError(kind, file.string(), "line " + std::to_string(lineNo) + ": " + what);
+  };
   auto colour = [&](std::istringstream& ls, const char* tag) {
-    glm::vec3 c;
-    if (!(ls >> c.x >> c.y >> c.z))
-      throw InputError(
-          InputErrorKind::Malformed, file.string(),
-          "line " + std::to_string(lineNo) + ": expected 3 numbers after '" + tag + "'");
-    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
-      throw InputError(InputErrorKind::NonFinite, file.string(),
-                       "line " + std::to_string(lineNo) + ": " + tag + " is NaN or infinite");
-    return glm::max(c, glm::vec3(0.0f));
+    return glm::max(readTriple(ls, tag, std::string(tag) + " is NaN or infinite", fail),
+                    glm::vec3(0.0f));
   };
   while (std::getline(in, line)) {
     ++lineNo;
@@ -188,12 +197,7 @@ TriangleScene loadObj(const fs::path& path) {
     std::string tag;
     if (!(ls >> tag) || tag[0] == '#') continue;
     if (tag == "v") {
-      glm::vec3 p;
-      if (!(ls >> p.x >> p.y >> p.z))
-        fail(InputErrorKind::Malformed, "expected 3 numbers after 'v'");
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-        fail(InputErrorKind::NonFinite, "vertex is NaN or infinite");
-      scene.positions.push_back(p);
+      scene.positions.push_back(readTriple(ls, "v", "vertex is NaN or infinite", fail));
     } else if (tag == "vt") {
       glm::vec2 t;
       if (!(ls >> t.x >> t.y)) fail(InputErrorKind::Malformed, "expected 2 numbers after 'vt'");
