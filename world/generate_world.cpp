@@ -212,8 +212,7 @@ nlohmann::json planInstances(const WorldPlan& plan, const Heightfield& field, co
   SplitMixRng rng{std::uint64_t(seed) * 0xD1B54A32D192ED03ull + 3};
   for (const PlannedAsset& a : plan.assets) {
     auto& family = models[std::size_t(a.kind)];
-    PlanModel& m =
-        family[std::min(family.size() - 1, std::size_t(rng.uniform() * family.size()))];
+    PlanModel& m = family[std::min(family.size() - 1, std::size_t(rng.uniform() * family.size()))];
     const double yaw = a.yaw + (m.zAlong ? M_PI / 2 : 0.0);
     m.placements.push_back(restingPlacement(field, a.at, a.size, yaw, a.floor));
     ++*placed;
@@ -221,7 +220,8 @@ nlohmann::json planInstances(const WorldPlan& plan, const Heightfield& field, co
   nlohmann::json instances = nlohmann::json::array();
   for (auto& family : models)
     for (PlanModel& m : family)
-      if (!m.placements.empty()) instances.push_back(instanceEntry(m.file, std::move(m.placements)));
+      if (!m.placements.empty())
+        instances.push_back(instanceEntry(m.file, std::move(m.placements)));
   return instances;
 }
 
