@@ -35,8 +35,9 @@ void main() {
   outputs[4u * i] = vec4(probeRayDirection(i % pc.counts.y, pc.counts.y, rotation), 0.0f);
   outputs[4u * i + 1u] = vec4(probeOctEncode(dir), probeTileCoord(dir, kProbeIrradianceInterior));
   outputs[4u * i + 2u] = vec4(probeOctDecode(other.xy), 0.0f);
-  uint t = i % 64u;
-  uvec2 src = probeBorderSource(uvec2(t % 8u, t / 8u), kProbeIrradianceTexels);
+  uint t = i % (kProbeIrradianceTexels * kProbeIrradianceTexels);
+  uvec2 src = probeBorderSource(uvec2(t % kProbeIrradianceTexels, t / kProbeIrradianceTexels),
+                                kProbeIrradianceTexels);
   outputs[4u * i + 3u] = vec4(float(src.x), float(src.y),
                               probeChebyshevWeight(vec2(4.0f, 17.0f), other.z, kProbeMinVariance),
                               probeBackfaceWeight(dir, vec3(0.0f, 0.0f, 1.0f)));

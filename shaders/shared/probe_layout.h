@@ -8,7 +8,7 @@
 //     ((x - 1 + 0.5) / interior) * 2 - 1 (see probeTexelCentreOct).
 //   - x or y == 0 or interior+1: border, a copy of one interior texel (probeBorderSource), so
 //     that hardware bilinear filtering across the octahedral seams reads the right neighbour.
-// Irradiance: 6x6 interior + border = 8x8 texels, RGB stored as irradiance^(1/5) (perceptual
+// Irradiance: 8x8 interior + border = 10x10 texels, RGB stored as irradiance^(1/5) (perceptual
 // encoding, Majercik 2021 Sec. 4.2). Depth: 14x14 interior + border = 16x16 texels, RG = mean and
 // mean of the squared ray distance (Majercik 2021 Sec. 2.3), in cascade voxels.
 //
@@ -24,8 +24,8 @@ SDF_BEGIN_NAMESPACE
 SDF_CONST uint kProbeGridDefault = 17;        // probes per volume edge (17³ = 4913 probes)
 SDF_CONST uint kProbeSpacingCells = 8;        // probe spacing in cascade cells (one brick)
 SDF_CONST uint kProbeBorderTexels = 1;        // border width of every octahedral tile
-SDF_CONST uint kProbeIrradianceInterior = 6;  // irradiance interior texels per edge
-SDF_CONST uint kProbeIrradianceTexels = 8;    // 6 + 2 * border
+SDF_CONST uint kProbeIrradianceInterior = 8;  // irradiance interior texels per edge
+SDF_CONST uint kProbeIrradianceTexels = 10;   // 8 + 2 * border
 SDF_CONST uint kProbeDepthInterior = 14;      // depth-moment interior texels per edge
 SDF_CONST uint kProbeDepthTexels = 16;        // 14 + 2 * border
 SDF_CONST uint kProbeDefaultRays = 128;       // rays per probe per update
@@ -114,8 +114,8 @@ SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every c
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
 SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probes below the cutoff
 SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
-SDF_CONST uint kProbeBlendTexelsPerProbe = 232u;  // 6² irradiance + 14² depth interior texels
-SDF_CONST uint kProbeTileTexelsPerProbe = 320u;   // 8² irradiance + 16² depth tile texels
+SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
+SDF_CONST uint kProbeTileTexelsPerProbe = 356u;   // 10² irradiance + 16² depth tile texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
 
 struct ProbePushConstants {

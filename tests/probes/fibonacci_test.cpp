@@ -81,9 +81,10 @@ TEST(SphericalFibonacci, HemispheresHoldHalfOfTheRays) {
 TEST(SphericalFibonacci, CosineQuadratureMatchesPi) {
   const std::uint32_t n = gpu_shared::kProbeDefaultRays;
   float worst = 0.0f;
-  for (std::uint32_t y = 0; y < 6; ++y) {
-    for (std::uint32_t x = 0; x < 6; ++x) {
-      const glm::vec3 t = texelDirection({x, y}, 6);
+  constexpr std::uint32_t kInterior = gpu_shared::kProbeIrradianceInterior;
+  for (std::uint32_t y = 0; y < kInterior; ++y) {
+    for (std::uint32_t x = 0; x < kInterior; ++x) {
+      const glm::vec3 t = texelDirection({x, y}, kInterior);
       float sum = 0.0f;
       for (std::uint32_t i = 0; i < n; ++i) sum += irradianceWeight(t, sphericalFibonacci(i, n));
       const float estimate = 4.0f * kPi / static_cast<float>(n) * sum;

@@ -111,17 +111,21 @@ TEST(ProbeBorders, HandWorkedEightByEight) {
     }
     EXPECT_EQ(row, kExpected[y]) << "tile row " << y;
   }
-  // ...and through ProbeTexels::fillBorders on the irradiance tile (labels as values).
+  // ...and ProbeTexels::fillBorders on the irradiance tile (its own size; interior labels as
+  // values): every texel holds the label of the texel the rule above names.
   ProbeTexels texels;
   auto tile = texels.irradianceTile();
-  for (std::uint32_t y = 0; y < 6; ++y)
-    for (std::uint32_t x = 0; x < 6; ++x)
-      tile[(y + 1) * 8 + (x + 1)] = glm::vec3(static_cast<float>(y * 6 + x));
+  constexpr std::uint32_t kInterior = gpu_shared::kProbeIrradianceInterior;
+  constexpr std::uint32_t kTile = gpu_shared::kProbeIrradianceTexels;
+  for (std::uint32_t y = 0; y < kInterior; ++y)
+    for (std::uint32_t x = 0; x < kInterior; ++x)
+      tile[(y + 1) * kTile + (x + 1)] = glm::vec3(static_cast<float>(y * kInterior + x));
   texels.fillBorders();
-  for (std::uint32_t y = 0; y < 8; ++y) {
-    for (std::uint32_t x = 0; x < 8; ++x) {
-      const char want = kExpected[y][x];
-      EXPECT_EQ(labels[static_cast<std::size_t>(tile[y * 8 + x].x)], want) << x << "," << y;
+  for (std::uint32_t y = 0; y < kTile; ++y) {
+    for (std::uint32_t x = 0; x < kTile; ++x) {
+      const glm::uvec2 s = borderSource({x, y}, kTile);
+      const float want = static_cast<float>((s.y - 1) * kInterior + (s.x - 1));
+      EXPECT_EQ(tile[y * kTile + x].x, want) << x << "," << y;
     }
   }
 }

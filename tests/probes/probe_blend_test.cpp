@@ -26,8 +26,8 @@ std::vector<glm::vec3> frameDirections(std::uint32_t frame) {
 
 float worstTexelError(const ProbeTexels& t, float expected) {
   float worst = 0.0f;
-  for (std::uint32_t y = 0; y < 6; ++y)
-    for (std::uint32_t x = 0; x < 6; ++x) {
+  for (std::uint32_t y = 0; y < gpu_shared::kProbeIrradianceInterior; ++y)
+    for (std::uint32_t x = 0; x < gpu_shared::kProbeIrradianceInterior; ++x) {
       const glm::vec3 e = t.irradianceTexel({x, y});
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(e[c] / expected - 1.0f));
     }
@@ -76,9 +76,10 @@ TEST(ProbeBlend, LinearRadianceConvergesToAnalyticIrradiance) {
     texels.update(dirs, radiance, std::vector<float>(kRays, 1.0f), kHysteresis, kHysteresis);
   }
   float worst = 0.0f;
-  for (std::uint32_t y = 0; y < 6; ++y)
-    for (std::uint32_t x = 0; x < 6; ++x) {
-      const glm::vec3 n = texelDirection({x, y}, 6);
+  constexpr std::uint32_t kInterior = gpu_shared::kProbeIrradianceInterior;
+  for (std::uint32_t y = 0; y < kInterior; ++y)
+    for (std::uint32_t x = 0; x < kInterior; ++x) {
+      const glm::vec3 n = texelDirection({x, y}, kInterior);
       const float expected = kPi * L0 + 2.0f * kPi / 3.0f * L1 * glm::dot(n, a);
       worst = std::max(worst, std::abs(texels.irradianceTexel({x, y}).x / expected - 1.0f));
     }

@@ -65,9 +65,13 @@ TEST_F(ProbeGpuTest, SelftestShaderMatchesCpu) {
     worstDir =
         std::max(worstDir, glm::length(glm::vec3(o[0]) - rayDirection(i % kRays, kRays, rotation)));
     worstOct = std::max(worstOct, glm::length(glm::vec2(o[1]) - octEncode(d)));
-    worstTile = std::max(worstTile, glm::length(glm::vec2(o[1].z, o[1].w) - tileCoord(d, 6)));
+    worstTile =
+        std::max(worstTile, glm::length(glm::vec2(o[1].z, o[1].w) -
+                                        tileCoord(d, gpu_shared::kProbeIrradianceInterior)));
     worstDecode = std::max(worstDecode, glm::length(glm::vec3(o[2]) - octDecode(glm::vec2(other))));
-    const glm::uvec2 src = borderSource({(i % 64) % 8, (i % 64) / 8}, 8);
+    constexpr std::uint32_t tile = gpu_shared::kProbeIrradianceTexels;
+    const glm::uvec2 src =
+        borderSource({(i % (tile * tile)) % tile, (i % (tile * tile)) / tile}, tile);
     borderMismatches += o[3].x != static_cast<float>(src.x) || o[3].y != static_cast<float>(src.y);
     worstW = std::max(worstW, std::abs(o[3].z - chebyshevWeight({4.0f, 17.0f}, other.z,
                                                                 gpu_shared::kProbeMinVariance)));
