@@ -46,10 +46,13 @@ MeshCards layoutCards(glm::vec3 boxMin, glm::vec3 boxMax, float voxel,
     c.plane = glm::vec4(boxMin[u], boxMin[v], plane, extent[axis] + 2.0f * pad);
     c.texel = glm::vec4(extent[u] / float(width), extent[v] / float(height), 0.0f, 0.0f);
     c.info = glm::uvec4(axis, side, width, height);
-    c.first = glm::uvec4(first, 0, 0, 0);
+    c.first = glm::uvec4(first, 0, out.lightTexels[1], out.lightTexels[2]);
     first += width * height;
+    for (std::uint32_t l = 1; l < gpu_shared::kCardLightLevels; ++l)
+      out.lightTexels[l] += gpu_shared::cardLightWidth(c, l) * gpu_shared::cardLightHeight(c, l);
   }
   out.texelCount = first;
+  out.lightTexels[0] = first;
   return out;
 }
 

@@ -25,6 +25,8 @@ struct CardSettings {
 struct MeshCards {
   std::array<gpu_shared::CardGpu, gpu_shared::kCardsPerMesh> cards{};
   std::uint32_t texelCount = 0;  // sum of width × height over the six cards
+  // Light texels of an instance at each light level (level 0: texelCount).
+  std::array<std::uint32_t, gpu_shared::kCardLightLevels> lightTexels{};
   glm::vec3 boxMin{0}, boxMax{0};
 };
 

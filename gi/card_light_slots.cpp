@@ -12,16 +12,37 @@ constexpr std::int64_t kMovedBoost = 8;
 // Blocks lit before the last light change go before every block lit since (their light is of the
 // old lights), in the order of their age.
 constexpr std::int64_t kLightsChangedBoost = std::int64_t(1) << 40;
+constexpr std::uint32_t kLevels = gs::kCardLightLevels;
+
+// The level for an instance `distance` from the viewer, keeping `current` (-1: none) while the
+// distance stays within its band widened by an eighth of `beyond` on both sides.
+std::uint32_t levelAt(float distance, float beyond, int current) {
+  if (beyond <= 0.0f) return 0;
+  const std::uint32_t wanted = distance > 2.0f * beyond ? 2u : distance > beyond ? 1u : 0u;
+  if (current < 0 || std::uint32_t(current) == wanted) return wanted;
+  const float margin = beyond / 8.0f;
+  const float lo = float(current) * beyond - margin;  // level 0 has no lower edge
+  const float hi = current + 1 < int(kLevels) ? float(current + 1) * beyond + margin
+                                              : std::numeric_limits<float>::infinity();
+  return (current == 0 || distance > lo) && distance < hi ? std::uint32_t(current) : wanted;
+}
 }  // namespace
+
+void CardLightSlots::release(const Block& block) {
+  free_[block.mesh * kLevels + block.level].push_back(block.base);
+}
 
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
                                                   std::span<const std::uint32_t> meshTexels,
                                                   bool relightAll, std::uint32_t budget,
                                                   std::uint64_t capacityTexels, glm::vec3 viewer,
-                                                  std::uint64_t texelBudget) {
+                                                  std::uint64_t texelBudget,
+                                                  const CardLightLevels& levels) {
   ++frame_;
   stats_ = {};
-  if (free_.size() < meshTexels.size()) free_.resize(meshTexels.size());
+  if (free_.size() < meshTexels.size() * kLevels) free_.resize(meshTexels.size() * kLevels);
+  const bool byDistance =
+      levels.beyond > 0.0f && levels.texels.size() >= meshTexels.size() * kLevels;
   if (relightAll) lightsFrame_ = frame_;
   // Keys, smaller first: never lit, then lit before the last light change (oldest first), then
   // the frame of the last relight, a moved instance counting kMovedBoost frames older (so moves
@@ -40,40 +61,66 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   }
   for (auto it = blocks_.begin(); it != blocks_.end();) {
     if (it->second.seenFrame != frame_) {
-      free_[it->second.mesh].push_back(it->second.base);
+      release(it->second);
       it = blocks_.erase(it);
     } else {
       ++it;
     }
   }
-  // Over the cap: keep the nearest instances whose blocks fit, hand out blocks nearest first,
-  // and evict the rest (their blocks return to the free lists before anyone allocates).
-  auto texelsOf = [&](const gs::ObjectInstanceGpu& inst) {
-    return inst.info.x < meshTexels.size() ? meshTexels[inst.info.x] : 0u;
-  };
-  std::uint64_t wanted = 0;
-  for (const gs::ObjectInstanceGpu& inst : instances) wanted += texelsOf(inst);
-  std::vector<std::uint32_t> order(instances.size());
-  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::vector<bool> kept(instances.size(), true);
-  if (wanted > capacityTexels) {
-    std::vector<float> distance(instances.size());
+  const bool overCap = [&] {
+    std::uint64_t wanted = 0;  // at level 0: a cap that level 0 fits needs no distances
+    for (const gs::ObjectInstanceGpu& inst : instances)
+      wanted += inst.info.x < meshTexels.size() ? meshTexels[inst.info.x] : 0u;
+    return wanted > capacityTexels;
+  }();
+  std::vector<float> distance;
+  if (byDistance || overCap) {
+    distance.resize(instances.size());
     for (std::uint32_t i = 0; i < instances.size(); ++i) {
       const glm::vec3 lo(instances[i].boundsMin), hi(instances[i].boundsMax);
       distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
     }
+  }
+  // Each instance's level; a block of another level goes back to its free list (a new block of
+  // the right size is handed out below and relit first, as never lit).
+  std::vector<std::uint32_t> level(instances.size(), 0u);
+  if (byDistance) {
+    for (std::uint32_t i = 0; i < instances.size(); ++i) {
+      auto it = blocks_.find(instances[i].info.z);
+      const int current = it == blocks_.end() ? -1 : int(it->second.level);
+      level[i] = levelAt(distance[i], levels.beyond, current);
+      if (current >= 0 && std::uint32_t(current) != level[i]) {
+        release(it->second);
+        blocks_.erase(it);
+        ++stats_.relevelled;
+      }
+    }
+  }
+  auto texelsOf = [&](std::uint32_t i) -> std::uint32_t {
+    const std::uint32_t mesh = instances[i].info.x;
+    if (mesh >= meshTexels.size() || meshTexels[mesh] == 0) return 0u;
+    return byDistance ? levels.texels[mesh * kLevels + level[i]] : meshTexels[mesh];
+  };
+  // Over the cap: keep the nearest instances whose blocks fit, hand out blocks nearest first,
+  // and evict the rest (their blocks return to the free lists before anyone allocates).
+  std::uint64_t wanted = 0;
+  for (std::uint32_t i = 0; i < instances.size(); ++i) wanted += texelsOf(i);
+  std::vector<std::uint32_t> order(instances.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<bool> kept(instances.size(), true);
+  if (wanted > capacityTexels) {
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
     std::uint64_t sum = 0;
     for (std::uint32_t i : order) {
-      sum += texelsOf(instances[i]);
+      sum += texelsOf(i);
       kept[i] = sum <= capacityTexels;
     }
     for (std::uint32_t i = 0; i < instances.size(); ++i) {
       if (kept[i]) continue;
       auto it = blocks_.find(instances[i].info.z);
       if (it == blocks_.end()) continue;
-      free_[it->second.mesh].push_back(it->second.base);
+      release(it->second);
       blocks_.erase(it);
       ++stats_.evicted;
     }
@@ -84,7 +131,7 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     gs::ObjectInstanceGpu& inst = instances[i];
     inst.info.w = gs::kNoCardLight;
     const std::uint32_t mesh = inst.info.x;
-    const std::uint32_t texels = texelsOf(inst);
+    const std::uint32_t texels = texelsOf(i);
     if (texels == 0) continue;
     if (!kept[i]) {
       ++stats_.overBudget;
@@ -94,11 +141,13 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     if (it == blocks_.end()) {
       Block block;
       block.mesh = mesh;
+      block.level = level[i];
       block.seenFrame = frame_;
-      if (!free_[mesh].empty()) {
-        block.base = free_[mesh].back();
-        free_[mesh].pop_back();
-      } else if (end_ + texels <= capacityTexels && end_ + texels < gs::kNoCardLight) {
+      std::vector<std::uint32_t>& freed = free_[mesh * kLevels + block.level];
+      if (!freed.empty()) {
+        block.base = freed.back();
+        freed.pop_back();
+      } else if (end_ + texels <= capacityTexels && end_ + texels <= gs::kCardLightBaseMask) {
         block.base = std::uint32_t(end_);
         end_ += texels;
       } else {
@@ -108,8 +157,9 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       it = blocks_.emplace(inst.info.z, block).first;
     }
     const Block& block = it->second;
-    inst.info.w = block.base;
+    inst.info.w = block.base | block.level << gs::kCardLightLevelShift;
     ++stats_.withCards;
+    ++stats_.atLevel[block.level];
     stats_.liveTexels += texels;
     const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
     std::int64_t key = std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
@@ -128,7 +178,7 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   std::vector<std::uint32_t> relight;
   relight.reserve(take);
   for (std::size_t k = 0; k < take; ++k) {
-    const std::uint64_t texels = texelsOf(instances[candidates[k].index]);
+    const std::uint64_t texels = texelsOf(candidates[k].index);
     if (!relight.empty() && stats_.relitTexels + texels > texelBudget) break;
     relight.push_back(candidates[k].index);
     stats_.relitTexels += texels;

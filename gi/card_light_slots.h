@@ -7,14 +7,28 @@
 // the most instances of each mesh alive at once.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <unordered_map>
 #include <vector>
 
+#include "shaders/shared/card_layout.h"
 #include "shaders/shared/object_layout.h"
 
 namespace sdfstream {
+
+// Card resolution by distance: an instance's light is kept at a coarser level (card_layout.h, one
+// light texel per 2^l x 2^l card texels) the farther it is from the viewer, as the cascades that
+// see it resolve 2^c voxels.
+struct CardLightLevels {
+  // Light texels of mesh m at level l: texels[m * kCardLightLevels + l] (empty: level 0 only).
+  std::span<const std::uint32_t> texels;
+  // Distance (stack space, to the instance's AABB) beyond which level 1 is used, and beyond twice
+  // it level 2; 0: always level 0. An instance keeps its level until it is beyond the band's edge
+  // by an eighth of this, so one on a boundary does not flip (and relight) every frame.
+  float beyond = 0.0f;
+};
 
 class CardLightSlots {
  public:
@@ -26,10 +40,13 @@ class CardLightSlots {
     std::uint32_t evicted = 0;         // blocks taken from instances farther than the kept ones
     std::uint64_t maxStaleFrames = 0;  // frames since the longest-unlit instance's last relight
     std::uint64_t liveTexels = 0;      // texels of the blocks in use
+    std::uint32_t relevelled = 0;      // instances whose level changed (a new block, relit first)
+    std::array<std::uint32_t, gpu_shared::kCardLightLevels> atLevel{};  // with cards, per level
   };
 
   // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id):
-  // sets info.w (block base, or kNoCardLight when the mesh has no cards or the cap of
+  // sets info.w (block base | level << kCardLightLevelShift, or kNoCardLight when the mesh has
+  // no cards or the cap of
   // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
   // `instances`) to relight, at most `budget` instances and `texelBudget` texels (but at least one
   // instance: a mesh larger than the texel budget still gets relit, alone): never lit first, then
@@ -42,12 +59,14 @@ class CardLightSlots {
   // When the instances want more than capacityTexels, the nearest to `viewer` (stack space; the
   // distance to their AABB) keep or get cards and the farther ones are evicted: their blocks go
   // back to the free lists for nearer instances of the same mesh. Nearer first is also the order
-  // in which blocks are handed out then.
+  // in which blocks are handed out then. `levels` sizes blocks by distance (the texel counts,
+  // caps and budgets above are then of the instance's level); a level change is a new block.
   std::vector<std::uint32_t> assign(std::span<gpu_shared::ObjectInstanceGpu> instances,
                                     std::span<const std::uint32_t> meshTexels, bool relightAll,
                                     std::uint32_t budget, std::uint64_t capacityTexels,
                                     glm::vec3 viewer = glm::vec3(0.0f),
-                                    std::uint64_t texelBudget = ~std::uint64_t(0));
+                                    std::uint64_t texelBudget = ~std::uint64_t(0),
+                                    const CardLightLevels& levels = {});
 
   // Texels the atlas must hold: every block ever handed out (the high-water mark).
   std::uint64_t endTexel() const { return end_; }
@@ -56,12 +75,15 @@ class CardLightSlots {
  private:
   struct Block {
     std::uint32_t mesh = 0;
+    std::uint32_t level = 0;
     std::uint32_t base = 0;
     std::uint64_t litFrame = 0;  // 0: never lit
     std::uint64_t seenFrame = 0;
   };
   std::unordered_map<std::uint32_t, Block> blocks_;  // by instance id
-  std::vector<std::vector<std::uint32_t>> free_;     // per mesh: bases of freed blocks
+  // Per mesh and level (mesh * kCardLightLevels + level): bases of freed blocks.
+  std::vector<std::vector<std::uint32_t>> free_;
+  void release(const Block& block);
   std::uint64_t end_ = 0;
   std::uint64_t frame_ = 0;
   std::uint64_t lightsFrame_ = 0;  // the frame of the last light change

@@ -54,6 +54,10 @@ struct ObjectSceneSettings {
   // Card light memory cap (4 bytes per texel). When the instances want more, the nearest to the
   // camera (cascade 0's centre) keep cards and the farther ones are evicted (CardLightSlots).
   std::uint64_t cardLightBudgetBytes = 256ull << 20;
+  // Card resolution by distance: instances beyond this many times cascade 0's half extent from
+  // its centre keep their light at a quarter of the texels, beyond twice that at a sixteenth
+  // (CardLightLevels). 0: every instance at full resolution.
+  float cardLevelDistance = 1.0f;
 };
 
 // Every mesh of the library, packed: ObjectMeshGpu records, distances, (albedo, emission) pairs.

@@ -1,5 +1,6 @@
 #include "gi/object_scene.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -83,6 +84,7 @@ void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) 
   cardsTexelWorld_ = texelWorld;
   const std::uint32_t meshes = std::uint32_t(library.size());
   meshTexels_.resize(meshes, 0u);
+  meshLevelTexels_.resize(std::size_t(meshes) * gs::kCardLightLevels, 0u);
   cardTable_.resize(std::size_t(meshes) * gs::kCardsPerMesh, gs::CardGpu{});
   if (settings_.cards && !rasterizer_) {
     try {
@@ -115,6 +117,8 @@ void ObjectScene::prepareCards(const ObjectLibrary& library, double voxelSize0) 
     }
     cardTexels_.insert(cardTexels_.end(), texels.begin(), texels.end());
     meshTexels_[m] = cards.texelCount;
+    for (std::uint32_t l = 0; l < gs::kCardLightLevels; ++l)
+      meshLevelTexels_[m * gs::kCardLightLevels + l] = cards.lightTexels[l];
   }
 }
 
@@ -131,15 +135,18 @@ void ObjectScene::uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& stagin
 }
 
 void ObjectScene::recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging,
-                                  bool lightsChanged, glm::vec3 viewer) {
+                                  bool lightsChanged, glm::vec3 viewer, float levelBeyond) {
   relight_.clear();
   if (!settings_.cards) {
     for (gs::ObjectInstanceGpu& inst : frame_.instances) inst.info.w = gs::kNoCardLight;
     return;
   }
-  relight_ =
-      slots_.assign(frame_.instances, meshTexels_, lightsChanged, settings_.cardRelightBudget,
-                    settings_.cardLightBudgetBytes / 4, viewer, settings_.cardRelightTexelBudget);
+  CardLightLevels levels;
+  levels.texels = meshLevelTexels_;
+  levels.beyond = levelBeyond;
+  relight_ = slots_.assign(frame_.instances, meshTexels_, lightsChanged,
+                           settings_.cardRelightBudget, settings_.cardLightBudgetBytes / 4, viewer,
+                           settings_.cardRelightTexelBudget, levels);
   const std::size_t needed = std::size_t(slots_.endTexel()) * sizeof(std::uint32_t);
   if (cardLight_.size() < needed) {
     // Grow by half again at least; blocks already lit keep their light.
@@ -186,12 +193,17 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   if (!cardsUploaded_) uploadCards(batch, staging);
   const auto buildStart = std::chrono::steady_clock::now();
   buildObjectFrame(library, instances, stack, settings_, frame_);
-  // The viewer for the cards' eviction order: cascade 0's centre (the stack is camera-centred).
+  // The viewer for the cards' eviction order and light levels: cascade 0's centre (the stack is
+  // camera-centred). Instances beyond cascade 0's half extent are seen by cascade 1's probes and
+  // coarser (2 voxels and more), so their light is kept at level 1, beyond twice that at level 2.
   glm::vec3 viewer(0.0f);
-  if (!stack.params.empty())
-    viewer = glm::vec3(stack.params[0].offsetScale) +
-             0.5f * float(gs::kCascadeCells) * stack.params[0].offsetScale.w;
-  recordCardLight(batch, staging, lightsChanged, viewer);
+  float levelBeyond = 0.0f;
+  if (!stack.params.empty()) {
+    const float halfExtent = 0.5f * float(gs::kCascadeCells) * stack.params[0].offsetScale.w;
+    viewer = glm::vec3(stack.params[0].offsetScale) + halfExtent;
+    levelBeyond = std::max(settings_.cardLevelDistance, 0.0f) * halfExtent;
+  }
+  recordCardLight(batch, staging, lightsChanged, viewer, levelBeyond);
   buildMilliseconds_ = millisecondsSince(buildStart);
   timings_.clear();
 

@@ -122,7 +122,7 @@ class ObjectScene {
                    const ObjectLibrary& library);
   void uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging);
   void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged,
-                       glm::vec3 viewer);
+                       glm::vec3 viewer, float levelBeyond);
 
   gpu::Context& context_;
   ObjectSceneSettings settings_;
@@ -136,6 +136,7 @@ class ObjectScene {
   std::unique_ptr<CardRasterizer> rasterizer_;
   CardLightSlots slots_;
   std::vector<std::uint32_t> meshTexels_, relight_;
+  std::vector<std::uint32_t> meshLevelTexels_;  // per mesh and card light level
   std::uint32_t maxCardTexels_ = 0;
   std::vector<gpu_shared::CardGpu> cardTable_;
   std::vector<gpu_shared::CardTexelGpu> cardTexels_;

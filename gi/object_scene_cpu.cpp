@@ -45,6 +45,8 @@ struct ObjectPasses : ObjectBindings {
 // The card light pass: the static stack's SDF macros and the objects' together, as
 // card_light.comp binds them (its shadow rays see both).
 struct CardLightPasses : ObjectBindings {
+  const CardTexelGpu* cardTexels = nullptr;  // indexed from the table's start, as on the GPU
+  std::uint32_t cardTableWords = 0;
   const std::uint32_t* pageTable = nullptr;
   const std::uint32_t* distanceAtlas = nullptr;
   const std::uint32_t* albedoAtlas = nullptr;
@@ -59,6 +61,7 @@ struct CardLightPasses : ObjectBindings {
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #define LIGHT_AT(i) lights[i]
+#define OBJ_CARD_TEXEL(i) cardTexels[(i)-cardTableWords]
 #include "shaders/object_trace.glsl"
 #include "shaders/sdf_trace.glsl"
 // light_math.glsl and card_light.glsl need the functions above: keep this order.
@@ -72,6 +75,7 @@ struct CardLightPasses : ObjectBindings {
 #undef SDF_EMISSION
 #undef SDF_CASCADE
 #undef LIGHT_AT
+#undef OBJ_CARD_TEXEL
 };
 
 ObjectTraceHit toHit(ObjectPasses& p, const ObjectPasses::ObjectHit& h, glm::vec3 o, glm::vec3 d) {
@@ -212,13 +216,19 @@ std::vector<std::uint32_t> ObjectSceneCpu::cardLight(std::uint32_t instance,
   const gs::ObjectInstanceGpu& inst = frame_.instances[instance];
   const gs::ObjectMeshGpu& mesh = atlas_.meshes[inst.info.x];
   const std::uint32_t tableWords = std::uint32_t(cardTable_.size()) * 4u;
+  p.cardTexels = cardTexels_.data();
+  p.cardTableWords = tableWords;
+  const std::uint32_t level =
+      inst.info.w == gs::kNoCardLight ? 0u : inst.info.w >> gs::kCardLightLevelShift;
   for (std::uint32_t k = 0; k < gs::kCardsPerMesh; ++k) {
     const gs::CardGpu& c = cardTable_[inst.info.x * gs::kCardsPerMesh + k];
-    for (std::uint32_t t = 0; t < c.info.z * c.info.w; ++t) {
-      const gs::CardTexelGpu& texel = cardTexels_[c.first.y - tableWords + c.first.x + t];
+    const std::uint32_t count = gs::cardLightWidth(c, level) * gs::cardLightHeight(c, level);
+    for (std::uint32_t t = 0; t < count; ++t) {
+      const std::uint32_t cardTexel = p.cardLightTexel(c, level, t);
+      const gs::CardTexelGpu& texel = cardTexels_[c.first.y - tableWords + c.first.x + cardTexel];
       out.push_back(
-          gs::packRgb9e5(p.cardTexelRadiance(inst, mesh, c, t, texel, pc.counts.y, pc.params.x,
-                                             pc.counts.w, pc.params.y, pc.counts.z)));
+          gs::packRgb9e5(p.cardTexelRadiance(inst, mesh, c, cardTexel, texel, pc.counts.y,
+                                             pc.params.x, pc.counts.w, pc.params.y, pc.counts.z)));
     }
   }
   return out;

@@ -44,7 +44,8 @@ class ObjectSceneCpu {
                 std::span<const std::uint32_t> instanceLightBases);
 
   // shaders/card_light.glsl as C++ (card_light.comp's loop for one instance): the light of every
-  // texel of instance i's six cards, in card order, RGB9E5 as the pass writes it, lit by `lights`
+  // light texel of instance i's six cards at its light level (info.w's top bits), in card order
+  // (the block's layout from its base), RGB9E5 as the pass writes it, lit by `lights`
   // (cascade-0 voxels, toGpu) with shadows through `stack` and these objects. Needs setCards.
   std::vector<std::uint32_t> cardLight(std::uint32_t instance, const CascadeStackImage& stack,
                                        std::span<const gpu_shared::GpuLight> lights,

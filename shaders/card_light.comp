@@ -2,8 +2,9 @@
 // Card light pass (gi/object_scene.h, ObjectScene card light; math in card_light.glsl): a row
 // of workgroups per listed instance (y = index into the relight list; x: enough workgroups for
 // the largest card), its threads over the texels of each of the instance's mesh's six cards;
-// each texel's light is written as RGB9E5 at the instance's
-// card-light base (ObjectInstanceGpu::info.w) + the texel's mesh index. Instances not listed keep
+// each light texel (one per 2^level x 2^level card texels at the instance's light level,
+// card_layout.h) is written as RGB9E5 at the instance's card-light base (ObjectInstanceGpu::info.w)
+// + its index at that level, lit at the card texel cardLightTexel picks. Instances not listed keep
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
 // as object binding 15), 3 page tables, 4 distance atlas, 5 albedo atlas, 6 emission atlas,
@@ -50,17 +51,20 @@ void main() {
   ObjectInstanceGpu inst = OBJ_INSTANCE(instance);
   uint base = inst.info.w;
   if (base == kNoCardLight) return;
+  uint level = base >> kCardLightLevelShift;
+  base = base & kCardLightBaseMask;
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
   for (uint k = 0u; k < kCardsPerMesh; ++k) {
     CardGpu c = OBJ_CARD(inst.info.x * kCardsPerMesh + k);
-    uint count = c.info.z * c.info.w;
+    uint count = cardLightWidth(c, level) * cardLightHeight(c, level);
+    uint first = base + cardLightFirst(c, level);
     for (uint t = gl_GlobalInvocationID.x; t < count; t += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
-      uint local = c.first.x + t;
-      CardTexelGpu texel = OBJ_CARD_TEXEL(c.first.y + local);
-      vec3 radiance = cardTexelRadiance(inst, m, c, t, texel, pc.counts.y, pc.params.x,
+      uint cardTexel = cardLightTexel(c, level, t);
+      CardTexelGpu texel = OBJ_CARD_TEXEL(c.first.y + c.first.x + cardTexel);
+      vec3 radiance = cardTexelRadiance(inst, m, c, cardTexel, texel, pc.counts.y, pc.params.x,
                                         pc.counts.w, pc.params.y, pc.counts.z);
       if (any(isnan(radiance)) || any(isinf(radiance))) atomicAdd(cardNonFinite, 1u);
-      cardLightOut[base + local] = packRgb9e5(radiance);
+      cardLightOut[first + t] = packRgb9e5(radiance);
     }
   }
 }

@@ -34,3 +34,35 @@ vec3 cardTexelRadiance(ObjectInstanceGpu inst, ObjectMeshGpu m, CardGpu c, uint 
   vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(t.albedo)));
   return emission + albedo * irradiance * kLightInvPi;
 }
+
+// The card texel (index within card c) whose light stands for light texel t of c at `level`: of
+// the 2^level x 2^level card texels it covers, the one that saw a surface (depth >= 0) nearest
+// the footprint's centre (first in row order among equals), else the footprint's first texel.
+// Needs OBJ_CARD_TEXEL (CardGpu::first.y is the mesh's first texel there).
+uint cardLightTexel(CardGpu c, uint level, uint t) {
+  uint lightWidth = cardLightWidth(c, level);
+  uint i0 = (t % lightWidth) << level;
+  uint j0 = (t / lightWidth) << level;
+  uint best = i0 + c.info.z * j0;
+  if (level == 0u) return best;
+  uint side = 1u << level;
+  float centre = 0.5f * float(side) - 0.5f;
+  float bestDistance = 1e30f;
+  for (uint dj = 0u; dj < side; ++dj) {
+    for (uint di = 0u; di < side; ++di) {
+      uint i = i0 + di;
+      uint j = j0 + dj;
+      if (i >= c.info.z || j >= c.info.w) continue;
+      uint texel = i + c.info.z * j;
+      if (OBJ_CARD_TEXEL(c.first.y + c.first.x + texel).depth < 0.0f) continue;
+      float du = float(di) - centre;
+      float dv = float(dj) - centre;
+      float d = du * du + dv * dv;
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = texel;
+      }
+    }
+  }
+  return best;
+}

@@ -17,7 +17,8 @@ struct CardLookup {
 // The up to three cards facing the hit normal (weights n_a², which sum to 1), each accepting its
 // texel under the hit when the depth it stored is within kCardDepthTolerance object-grid voxels
 // of the hit's (the slides' rule: a card that sees another surface in front of the hit, or
-// behind it, does not hold its light). Nearest texel, no filtering.
+// behind it, does not hold its light). Nearest texel, no filtering; the light comes from the light
+// texel covering it at the instance's light level (card_layout.h).
 CardLookup cardLookup(uint instance, vec3 pStack, vec3 nStack) {
   CardLookup r;
   r.radiance = vec3(0.0f);
@@ -26,6 +27,8 @@ CardLookup cardLookup(uint instance, vec3 pStack, vec3 nStack) {
   ObjectInstanceGpu inst = OBJ_INSTANCE(instance);
   uint lightBase = inst.info.w;
   if (lightBase == kNoCardLight) return r;
+  uint level = lightBase >> kCardLightLevelShift;
+  lightBase = lightBase & kCardLightBaseMask;
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
   vec3 g = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], pStack);
   vec3 p = vec3(m.gridMin.x, m.gridMin.y, m.gridMin.z) + g * m.gridMin.w;
@@ -50,7 +53,7 @@ CardLookup cardLookup(uint instance, vec3 pStack, vec3 nStack) {
     uint local = c.first.x + i + c.info.z * j;
     CardTexelGpu t = OBJ_CARD_TEXEL(c.first.y + local);
     if (t.depth < 0.0f || abs(t.depth - cardDepth(c, p)) > tolerance) continue;
-    r.radiance += unpackRgb9e5(OBJ_CARD_LIGHT(lightBase + local)) * w;
+    r.radiance += unpackRgb9e5(OBJ_CARD_LIGHT(lightBase + cardLightIndex(c, level, i, j))) * w;
     r.weight += w;
     if (r.texel == kNoCardLight) r.texel = local;
   }

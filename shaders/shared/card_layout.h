@@ -34,8 +34,49 @@ struct CardGpu {
   vec4 texel;   // x: texelU, y: texelV (object units per texel); z, w: 0
   uvec4 info;   // x: axis (0..2), y: side (0: sees the + face, looks along −axis; 1: the
                 // − face), z: width, w: height (texels)
-  uvec4 first;  // x: first texel of this card in the mesh's texels; yzw: 0
+  uvec4 first;  // x: first texel of this card in the mesh's texels (and of its light at
+                // level 0); y: the mesh's first texel in the card buffer (set at upload);
+                // z, w: first light texel of this card at light levels 1 and 2
 };
+
+// Card light levels (resolution by distance): an instance's light is kept at level l, one light
+// texel per 2^l x 2^l card texels, so instances the finer cascades do not show (their probe rays
+// resolve 2^c voxels) cost a quarter or a sixteenth of the texels and shadow rays. The card
+// texels (capture) stay per mesh at full resolution; the lookup's depth test still uses them.
+SDF_CONST uint kCardLightLevels = 3u;
+
+#ifdef __cplusplus
+inline
+#endif
+    uint
+    cardLightWidth(CardGpu c, uint level) {
+  return (c.info.z + (1u << level) - 1u) >> level;
+}
+
+#ifdef __cplusplus
+inline
+#endif
+    uint
+    cardLightHeight(CardGpu c, uint level) {
+  return (c.info.w + (1u << level) - 1u) >> level;
+}
+
+#ifdef __cplusplus
+inline
+#endif
+    uint
+    cardLightFirst(CardGpu c, uint level) {
+  return level == 0u ? c.first.x : (level == 1u ? c.first.z : c.first.w);
+}
+
+// Index (from the instance's light base) of the light texel covering card texel (i, j).
+#ifdef __cplusplus
+inline
+#endif
+    uint
+    cardLightIndex(CardGpu c, uint level, uint i, uint j) {
+  return cardLightFirst(c, level) + (i >> level) + cardLightWidth(c, level) * (j >> level);
+}
 
 // What a card texel sees (16 bytes). depth < 0: nothing (the view's ray leaves the box).
 struct CardTexelGpu {

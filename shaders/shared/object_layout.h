@@ -47,11 +47,14 @@ struct ObjectInstanceGpu {
                           // never overshoots the surface in stack space
   vec4 boundsMax;         // xyz: AABB max; w: bounding radius in stack voxels (size rule)
   uvec4 info;             // x: mesh index; y: kObjectFlag* bits; z: the user's object id;
-                          // w: first texel of this instance's card light (OBJ_CARD_LIGHT), or
+                          // w: first texel of this instance's card light (OBJ_CARD_LIGHT) in
+                          // bits 0-29, its light level (card_layout.h) in bits 30-31; or
                           // kNoCardLight (no cards: shaded from material and probes alone)
 };
 
 SDF_CONST uint kNoCardLight = 0xffffffffu;
+SDF_CONST uint kCardLightBaseMask = 0x3fffffffu;  // info.w & mask: the light block's first texel
+SDF_CONST uint kCardLightLevelShift = 30u;        // info.w >> shift: its level (0..2)
 
 SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) this frame
 

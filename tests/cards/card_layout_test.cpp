@@ -36,6 +36,32 @@ TEST(CardLayout, SixFacesSizedByTheVoxelAndNumberedCardByCard) {
   EXPECT_NEAR(cardDepthOf(m.cards[1], {2.0f, 0.3f, 0.1f}), 2.02f, 1e-6f);
 }
 
+// Light levels: card (10 x 5) has 5 x 3 light texels at level 1 and 3 x 2 at level 2 (rounded
+// up), each card's first light texel at a level the sum of the cards before it at that level, and
+// the light index of card texel (i, j) the light texel covering it.
+TEST(CardLayout, LightLevelsHalveEachCardRoundingUp) {
+  const MeshCards m = layoutCards({0, 0, 0}, {2.0f, 1.0f, 0.5f}, 0.1f);
+  // Cards 10x5, 10x5, 5x20, 5x20, 20x10, 20x10.
+  EXPECT_EQ(m.lightTexels[0], m.texelCount);
+  EXPECT_EQ(m.lightTexels[1], 2u * (5 * 3 + 3 * 10 + 10 * 5));
+  EXPECT_EQ(m.lightTexels[2], 2u * (3 * 2 + 2 * 5 + 5 * 3));
+  std::uint32_t first1 = 0, first2 = 0;
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    const CardGpu& c = m.cards[k];
+    EXPECT_EQ(gpu_shared::cardLightFirst(c, 0), c.first.x);
+    EXPECT_EQ(gpu_shared::cardLightFirst(c, 1), first1) << k;
+    EXPECT_EQ(gpu_shared::cardLightFirst(c, 2), first2) << k;
+    first1 += gpu_shared::cardLightWidth(c, 1) * gpu_shared::cardLightHeight(c, 1);
+    first2 += gpu_shared::cardLightWidth(c, 2) * gpu_shared::cardLightHeight(c, 2);
+  }
+  const CardGpu& c = m.cards[0];
+  EXPECT_EQ(gpu_shared::cardLightWidth(c, 1), 5u);
+  EXPECT_EQ(gpu_shared::cardLightHeight(c, 2), 2u);
+  EXPECT_EQ(gpu_shared::cardLightIndex(c, 0, 9, 4), 9u + 10u * 4u);
+  EXPECT_EQ(gpu_shared::cardLightIndex(c, 1, 9, 4), c.first.z + 4u + 5u * 2u);
+  EXPECT_EQ(gpu_shared::cardLightIndex(c, 2, 9, 4), c.first.w + 2u + 3u * 1u);
+}
+
 TEST(CardLayout, TexelCountsAreClampedAndFlatBoxesGetAVoxelOfDepth) {
   CardSettings s;
   s.minTexels = 4;

@@ -42,12 +42,15 @@ InstanceCards instanceCards(const ObjectScene& scene, std::uint32_t instance) {
   const std::vector<std::uint32_t> light = scene.downloadCardLight();
   const gs::ObjectInstanceGpu& inst = scene.frame().instances.at(instance);
   const std::uint32_t tableWords = std::uint32_t(scene.cardTable().size()) * 4u;
+  const std::uint32_t base = inst.info.w & gs::kCardLightBaseMask;
+  const std::uint32_t level = inst.info.w >> gs::kCardLightLevelShift;
   for (std::uint32_t k = 0; k < 6; ++k) {
     const gs::CardGpu& c = scene.cardTable()[inst.info.x * 6 + k];
     for (std::uint32_t t = 0; t < c.info.z * c.info.w; ++t) {
       const std::uint32_t local = c.first.x + t;
       out.texels[k].push_back(scene.cardTexels()[c.first.y - tableWords + local]);
-      out.light[k].push_back(gs::unpackRgb9e5(light.at(inst.info.w + local)));
+      const std::uint32_t lit = gs::cardLightIndex(c, level, t % c.info.z, t / c.info.z);
+      out.light[k].push_back(gs::unpackRgb9e5(light.at(base + lit)));
     }
   }
   return out;
@@ -142,20 +145,31 @@ TEST_F(ObjectCardTest, CardLightIsTheSunsLambertTermAndAnotherObjectShadowsIt) {
   EXPECT_GT(overflowed, 0u);
 }
 
-TEST_F(ObjectCardTest, CardLightAndLookupEqualTheCpuReference) {
+// The card light pass and the lookup against their CPU references, for 60 random objects with
+// their light at full resolution (levelDistance 0) or at levels by distance.
+void expectCardsEqualTheCpuReference(gpu::Context& ctx, float levelDistance) {
   test::AnalyticStack stack = floorStack();
   const CascadeStackImage& image = stack.image;
-  GpuStackScene scene(ctx());
+  GpuStackScene scene(ctx);
   scene.uploadAll(image);
-  LightCache cache(ctx());
+  LightCache cache(ctx);
   const std::vector<gs::GpuLight> lights = {
       test::sunLight(glm::vec3(0.3f, 1.0f, -0.4f), 3.0f),
       test::pointLight(glm::vec3(60.0f, 70.0f, 70.0f), 2000.0f)};
   test::RandomObjects objects;
   objects.addRandom(image, 60, 20.0, 11);
-  ObjectScene gpu(ctx());
+  ObjectSceneSettings settings;
+  settings.cardLevelDistance = levelDistance;
+  ObjectScene gpu(ctx, settings);
   gpu.update(objects.library, objects.instances, image);
   cache.update(scene, lights, gs::GpuSky{}, {}, image.voxelSize0, &gpu);
+  const auto& atLevel = gpu.cardStats().atLevel;
+  std::printf("[figures] card light levels 0 / 1 / 2: %u / %u / %u instances\n", atLevel[0],
+              atLevel[1], atLevel[2]);
+  if (levelDistance > 0.0f)
+    for (std::uint32_t l = 0; l < gs::kCardLightLevels; ++l) EXPECT_GT(atLevel[l], 0u) << l;
+  else
+    EXPECT_EQ(atLevel[0], gpu.cardStats().withCards);
 
   ObjectSceneCpu cpu(objects.library, objects.instances, image);
   std::vector<std::uint32_t> bases;
@@ -204,9 +218,10 @@ TEST_F(ObjectCardTest, CardLightAndLookupEqualTheCpuReference) {
   float worst = 0.0f;
   for (std::uint32_t i = 0; i < inst.size(); ++i) {
     if (inst[i].info.w == gs::kNoCardLight) continue;
+    const std::uint32_t base = inst[i].info.w & gs::kCardLightBaseMask;
     const std::vector<std::uint32_t> ref = cpu.cardLight(i, image, lights);
     for (std::size_t t = 0; t < ref.size(); ++t) {
-      const glm::vec3 a = gs::unpackRgb9e5(gpuLight.at(inst[i].info.w + t));
+      const glm::vec3 a = gs::unpackRgb9e5(gpuLight.at(base + t));
       const glm::vec3 b = gs::unpackRgb9e5(ref[t]);
       const float scale = std::max({b.x, b.y, b.z, 1e-3f});
       const float d = std::max({std::abs(a.x - b.x), std::abs(a.y - b.y), std::abs(a.z - b.z)});
@@ -223,6 +238,17 @@ TEST_F(ObjectCardTest, CardLightAndLookupEqualTheCpuReference) {
   EXPECT_GT(lit, texels / 10);  // many faces look away from both lights or lie in shadow
   // Soft-shadow steps may land either side of an edge in the two compilers' float rounding.
   EXPECT_LE(differ, texels / 200);
+}
+
+TEST_F(ObjectCardTest, CardLightAndLookupEqualTheCpuReference) {
+  expectCardsEqualTheCpuReference(ctx(), 0.0f);
+}
+
+// Objects 20 m around cascade 0's centre with levels every 0.15 of its half extent: the three
+// levels' blocks, their texels' choice and the lookup's light index, against the same math on the
+// CPU.
+TEST_F(ObjectCardTest, CardLightAtLevelsByDistanceEqualsTheCpuReference) {
+  expectCardsEqualTheCpuReference(ctx(), 0.15f);
 }
 
 TEST_F(ObjectCardTest, AMeshAddedLaterIsCapturedAloneAndTheAtlasEqualsAFreshCapture) {
@@ -321,6 +347,68 @@ TEST(CardLightSlots, OverTheCapTheNearestKeepCards) {
   slots.assign(frame, texels, false, 256, 60, glm::vec3(-5.0f, 0.0f, 0.0f));
   EXPECT_EQ(withCards().size(), 6u);
   EXPECT_EQ(slots.stats().evicted, 0u);
+}
+
+// Card resolution by distance: unit boxes at 0, 10, ..., 50 along x, the viewer at -5, a level
+// every 20: the near two at full resolution, the next two at level 1, the far two at level 2, with
+// the level's texels; moving the viewer relevels (a new block, relit first) except within an
+// eighth of the band's width beyond its edge, where an instance keeps its level.
+TEST(CardLightSlots, LevelsByDistanceSizeBlocksAndHoldNearTheirEdges) {
+  CardLightSlots slots;
+  const std::uint32_t texels[1] = {64};
+  const std::uint32_t levelTexels[gs::kCardLightLevels] = {64, 16, 4};
+  CardLightLevels levels;
+  levels.texels = levelTexels;
+  levels.beyond = 20.0f;
+  std::vector<std::uint32_t> ids(6);
+  for (std::uint32_t i = 0; i < 6; ++i) ids[i] = 100 + i;
+  auto frame = instancesOf(ids, 0, false);
+  for (std::uint32_t i = 0; i < 6; ++i) {
+    frame[i].boundsMin = glm::vec4(10.0f * float(i), 0.0f, 0.0f, 1.0f);
+    frame[i].boundsMax = glm::vec4(10.0f * float(i) + 1.0f, 1.0f, 1.0f, 1.0f);
+  }
+  auto levelsNow = [&] {
+    std::vector<std::uint32_t> out;
+    for (const gs::ObjectInstanceGpu& inst : frame)
+      out.push_back(inst.info.w >> gs::kCardLightLevelShift);
+    return out;
+  };
+  const std::uint64_t unlimited = ~std::uint64_t(0);
+  // Distances to the boxes: 5, 15, 25, 35, 45, 55.
+  auto relit = slots.assign(frame, texels, false, 256, 1u << 20, glm::vec3(-5.0f, 0.5f, 0.5f),
+                            unlimited, levels);
+  EXPECT_EQ(levelsNow(), (std::vector<std::uint32_t>{0, 0, 1, 1, 2, 2}));
+  EXPECT_EQ(relit.size(), 6u);
+  EXPECT_EQ(slots.stats().liveTexels, 2u * 64u + 2u * 16u + 2u * 4u);
+  EXPECT_EQ(slots.endTexel(), 2u * 64u + 2u * 16u + 2u * 4u);
+  for (int l = 0; l < 3; ++l) EXPECT_EQ(slots.stats().atLevel[std::size_t(l)], 2u);
+  // Viewer 2 further away (distances 7 ... 57): box 1 at 17 and box 3 at 37 stay in their bands,
+  // box 2 at 27 too; nothing relevels, nothing new to light.
+  relit = slots.assign(frame, texels, false, 256, 1u << 20, glm::vec3(-7.0f, 0.5f, 0.5f), unlimited,
+                       levels);
+  EXPECT_EQ(slots.stats().relevelled, 0u);
+  EXPECT_EQ(relit.size(), 6u);  // every block lit once: the oldest first, all fit the budget
+  // Viewer at -9 (distances 9, 19, 29, 39, 49, 59): box 1 (19) and box 3 (39) are within 20 and 40
+  // but inside their bands anyway; viewer at -12 (12, 22, 32, 42, 52, 62): box 1 at 22 is within
+  // an eighth (2.5) past its band's edge (20) and keeps level 0, box 3 at 42 likewise keeps 1.
+  slots.assign(frame, texels, false, 256, 1u << 20, glm::vec3(-12.0f, 0.5f, 0.5f), unlimited,
+               levels);
+  EXPECT_EQ(levelsNow(), (std::vector<std::uint32_t>{0, 0, 1, 1, 2, 2}));
+  EXPECT_EQ(slots.stats().relevelled, 0u);
+  // Viewer at -15 (15, 25, 35, 45, ...): box 1 at 25 and box 3 at 45 are past the margins: level
+  // 1 and 2, new blocks (box 1 takes the level-1 block box 3 gave back), relit first as never lit
+  // (with a budget of one, the first of them).
+  relit = slots.assign(frame, texels, false, 1, 1u << 20, glm::vec3(-15.0f, 0.5f, 0.5f), unlimited,
+                       levels);
+  EXPECT_EQ(levelsNow(), (std::vector<std::uint32_t>{0, 1, 1, 2, 2, 2}));
+  EXPECT_EQ(slots.stats().relevelled, 2u);
+  EXPECT_EQ(relit, (std::vector<std::uint32_t>{1}));
+  // Back: both return to their levels and take blocks back from the free lists.
+  const std::uint64_t end = slots.endTexel();
+  slots.assign(frame, texels, false, 256, 1u << 20, glm::vec3(-5.0f, 0.5f, 0.5f), unlimited,
+               levels);
+  EXPECT_EQ(levelsNow(), (std::vector<std::uint32_t>{0, 0, 1, 1, 2, 2}));
+  EXPECT_EQ(slots.endTexel(), end);
 }
 
 TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
