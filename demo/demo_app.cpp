@@ -109,11 +109,13 @@ ObjectViewStats objectViewStats(const DemoObjects& objects, const ViewResult& r)
 // Renders the views of one world and appends their report rows; then, with `objects`, the
 // objectViews with the objects moving for kObjectGiFrames more GI frames (the last one's stats
 // into *objectStats).
+// *objectView (optional) gets the last objects view's result.
 void renderViews(const World& world, gpu::Context* context, const RenderOptions& options,
                  const std::vector<DemoView>& views, const fs::path& out, int width, int height,
                  DemoTables& tables, DemoObjects* objects = nullptr,
                  const std::vector<DemoView>& objectViews = {},
-                 std::optional<ObjectViewStats>* objectStats = nullptr) {
+                 std::optional<ObjectViewStats>* objectStats = nullptr,
+                 ViewResult* objectView = nullptr) {
   ViewRenderer renderer(world, context, options);
   std::vector<DemoView> all = views;
   if (objects) all.insert(all.end(), objectViews.begin(), objectViews.end());
@@ -125,6 +127,32 @@ void renderViews(const World& world, gpu::Context* context, const RenderOptions&
     writeViewPngs(out, v.name, r);
     tables.addView(v.name, r, options.gi);
     printView(out / ("view-" + v.name + ".png"), r, options.gi);
+    if (objects && i >= views.size() && objectView) *objectView = std::move(r);
+  }
+}
+
+// The objects view again with the objects' cards off (same scripted motion, a fresh renderer):
+// view-objects-card-bounce.png shows what the cards add to the indirect light, and the report
+// the mean indirect irradiance both ways.
+void renderCardBounce(const World& world, gpu::Context* context, const RenderOptions& options,
+                      const DemoView& view, const ViewResult& cardsOn, const fs::path& out,
+                      int width, int height, DemoTables& tables, DemoReport& report) {
+  RenderOptions off = options;
+  off.renderer.settings.objects.cards = false;
+  std::unique_ptr<DemoObjects> objects = demoSceneObjects();
+  ViewRenderer renderer(world, context, off);
+  renderer.render(view.camera, width, height);  // the static warm-up, as before view `objects`
+  renderer.setObjects(objects.get(), kObjectGiFrames);
+  const ViewResult cardsOff = renderer.render(view.camera, width, height);
+  const std::string name = "objects-no-cards";
+  writeViewPngs(out, name, cardsOff);
+  tables.addView(name, cardsOff, off.gi);
+  printView(out / ("view-" + name + ".png"), cardsOff, off.gi);
+  writePng(out / "view-objects-card-bounce.png",
+           addedLight(cardsOn.indirectImage, cardsOff.indirectImage, 16.0f));
+  if (!cardsOn.convergence.empty() && !cardsOff.convergence.empty()) {
+    report.indirectCardsOn = cardsOn.convergence.back();
+    report.indirectCardsOff = cardsOff.convergence.back();
   }
 }
 
@@ -193,8 +221,12 @@ int runDemo(const DemoOptions& o) {
   const auto t2 = std::chrono::steady_clock::now();
   // The objects view: the front camera again, after the objects moved for a few GI frames.
   std::unique_ptr<DemoObjects> objects = o.objects ? demoSceneObjects() : nullptr;
-  renderViews(world, context.get(), render, views, o.out, o.width, o.height, tables,
-              objects.get(), {{"objects", views.front().camera}}, &report.objects);
+  ViewResult objectView;
+  renderViews(world, context.get(), render, views, o.out, o.width, o.height, tables, objects.get(),
+              {{"objects", views.front().camera}}, &report.objects, &objectView);
+  if (objects && render.gi && render.renderer.settings.objects.cards)
+    renderCardBounce(world, context.get(), render, {"objects", views.front().camera}, objectView,
+                     o.out, o.width, o.height, tables, report);
   report.sceneRenderSeconds = secondsSince(t2);
 
   report.cornell = renderCornell(o, context.get(), tables);

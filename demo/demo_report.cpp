@@ -62,12 +62,23 @@ void writeGiFrames(std::ostringstream& report, const DemoTables& tables) {
          << tables.convergence.str() << "\n";
 }
 
+void writeCardBounce(std::ostringstream& report, glm::vec3 on, glm::vec3 off) {
+  report << "### Objects bounce the light they receive (cards)\n\nView `objects-no-cards` repeats "
+            "view `objects` with the objects' cards off: a probe ray that hits an object then "
+            "sees only its albedo times the probes' light, no sunlight. "
+            "view-objects-card-bounce.png is what the cards add to view-objects-indirect.png "
+            "(x16): the red crate's sunlit faces bounce red onto the ground around it.\n\n"
+         << "| mean indirect irradiance (subset of the view) | R | G | B |\n|---|---|---|---|\n"
+         << "| cards on | " << on.r << " | " << on.g << " | " << on.b << " |\n"
+         << "| cards off | " << off.r << " | " << off.g << " | " << off.b << " |\n\n";
+}
+
 void writeObjects(std::ostringstream& report, const ObjectViewStats& stats, int giFrames) {
   report << "## Moving objects\n\nView `objects` is view `front` after " << giFrames
          << " more GI frames (" << giFrames / 30.0
          << " s of scripted motion at 30 frames per second) with " << stats.instances
          << " moving objects (a sphere circling 0.4 m above the ground, a cube dropping onto it, "
-            "a flat box driving a loop): they cast hard shadows in view-objects-direct.png, and "
+            "a red crate driving a loop): they cast hard shadows in view-objects-direct.png, and "
             "the probes trace them, so view-objects-indirect.png is darker than "
             "view-front-indirect.png under and beside them (their indirect shadows).\n\n"
          << "| item | value |\n|---|---|\n"
@@ -108,6 +119,8 @@ std::string demoReport(const DemoReport& r, const DemoTables& tables) {
          << tables.passes.str() << "\n";
   if (r.options.gi) writeGiFrames(report, tables);
   if (r.objects) writeObjects(report, *r.objects, r.objectGiFrames);
+  if (r.indirectCardsOn && r.indirectCardsOff)
+    writeCardBounce(report, *r.indirectCardsOn, *r.indirectCardsOff);
   report << "Absolute times mean something only on a real GPU; on lavapipe they measure the CPU.\n";
   return report.str();
 }

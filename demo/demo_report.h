@@ -40,7 +40,10 @@ struct DemoReport {
   std::string cornell;                     // one line: what the Cornell box view showed, or why not
   double sceneRenderSeconds = 0.0;         // the three scene views, GI frames included
   std::optional<ObjectViewStats> objects;  // the objects view, when there was one
-  int objectGiFrames = 0;                  // GI frames the objects view ran with them moving
+  // The objects view's mean indirect irradiance (its convergence subset, last GI frame) with the
+  // objects' cards on, and again with them off (when both ran).
+  std::optional<glm::vec3> indirectCardsOn, indirectCardsOff;
+  int objectGiFrames = 0;  // GI frames the objects view ran with them moving
 };
 
 // report.md's text.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/atomic_dir.h"
 #include "core/error.h"
@@ -48,6 +49,18 @@ void writePng(const std::filesystem::path& path, const Image8& image) {
                               image.width * 3))
     throw InputError(InputErrorKind::Io, path.string(), "PNG encoding failed");
   writeFileAtomically(path, bytes.data(), bytes.size());
+}
+
+Image8 addedLight(const Image8& with, const Image8& without, float gain) {
+  if (with.width != without.width || with.height != without.height ||
+      with.rgb.size() != without.rgb.size())
+    throw std::invalid_argument("addedLight: the two images differ in size");
+  Image8 out{with.width, with.height, std::vector<std::uint8_t>(with.rgb.size())};
+  for (std::size_t i = 0; i < with.rgb.size(); ++i) {
+    const float added = (float(with.rgb[i]) - float(without.rgb[i])) * gain;
+    out.rgb[i] = std::uint8_t(std::lround(std::clamp(added, 0.0f, 255.0f)));
+  }
+  return out;
 }
 
 }  // namespace sdfstream

@@ -33,4 +33,9 @@ inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0
 // Writes a PNG atomically (temp file + rename). Throws InputError(Io) on failure.
 void writePng(const std::filesystem::path& path, const Image8& image);
 
+// What `with` adds to `without` (same size), per channel, times gain, clamped to [0, 255]: where
+// an effect adds light and of which colour (the demo's card bounce). Throws std::invalid_argument
+// when the sizes differ.
+Image8 addedLight(const Image8& with, const Image8& without, float gain);
+
 }  // namespace sdfstream

@@ -186,7 +186,9 @@ std::unique_ptr<DemoObjects> demoSceneObjects() {
   ObjectLibrary& lib = objects->library;
   const std::uint32_t sphere = lib.addSphere(0.55f, {0.2f, 0.4f, 0.9f, 1.0f}, 16);
   const std::uint32_t cube = lib.addBox(glm::vec3(0.35f), {0.9f, 0.45f, 0.1f, 1.0f});
-  const std::uint32_t slab = lib.addBox(glm::vec3(0.5f, 0.18f, 0.3f), {0.85f, 0.8f, 0.3f, 1.0f});
+  // Saturated red, so the light its sunlit faces bounce (its cards) colours the ground.
+  const std::uint32_t crate =
+      lib.addBox(glm::vec3(0.45f, 0.35f, 0.3f), {0.85f, 0.08f, 0.08f, 1.0f});
   InstanceSet& set = objects->instances;
   ScriptedMotion& motion = objects->motion;
   // All three in the open front part of the ground slab, in front of the bunny (x = -1.9), the
@@ -198,10 +200,10 @@ std::unique_ptr<DemoObjects> demoSceneObjects() {
   // At the demo's 30 GI frames per second it lands within the first GI frames and rests.
   motion.add(set.add(cube, {}),
              Fall{glm::dvec3(1.3, 1.95, 2.5), 0.355, 3.0, 0.0, glm::dvec3(0, 1, 0), 0.3});
-  // A flat box driving a 1.1 x 1.0 m loop on the ground, right front.
+  // A red crate driving a 1.1 x 1.0 m loop on the ground, right front.
   motion.add(
-      set.add(slab, {}),
-      Path{{{2.0, 0.18, 1.5}, {3.1, 0.18, 1.5}, {3.1, 0.18, 2.5}, {2.0, 0.18, 2.5}}, 0.25, 0.0});
+      set.add(crate, {}),
+      Path{{{2.0, 0.35, 1.5}, {3.1, 0.35, 1.5}, {3.1, 0.35, 2.5}, {2.0, 0.35, 2.5}}, 0.25, 0.0});
   objects->apply(0.0);
   return objects;
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "demo/frame_image.h"
@@ -37,6 +38,17 @@ TEST(ToneMap, NonFiniteRadianceBecomesBlackAndIsCounted) {
   // One stop more doubles the input.
   const Image8 brighter = toneMap(radiance, 2, 2, 1.0f);
   EXPECT_GT(brighter.rgb[9], img.rgb[9]);
+}
+
+// addedLight keeps only what the first image adds, scaled and clamped, channel by channel.
+TEST(AddedLight, KeepsWhatTheFirstImageAddsScaledAndClamped) {
+  const Image8 with{2, 1, {10, 200, 50, 100, 0, 255}};
+  const Image8 without{2, 1, {5, 210, 50, 20, 0, 0}};
+  const Image8 added = addedLight(with, without, 4.0f);
+  EXPECT_EQ(added.width, 2);
+  EXPECT_EQ(added.height, 1);
+  EXPECT_EQ(added.rgb, (std::vector<std::uint8_t>{20, 0, 0, 255, 0, 255}));
+  EXPECT_THROW(addedLight(with, Image8{1, 1, {0, 0, 0}}, 1.0f), std::invalid_argument);
 }
 
 }  // namespace
