@@ -53,20 +53,6 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     std::int64_t key;
     std::uint32_t index;
   };
-  // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
-  // free list first, so this frame's newcomers can take them.
-  for (const gs::ObjectInstanceGpu& inst : instances) {
-    auto it = blocks_.find(inst.info.z);
-    if (it != blocks_.end() && it->second.mesh == inst.info.x) it->second.seenFrame = frame_;
-  }
-  for (auto it = blocks_.begin(); it != blocks_.end();) {
-    if (it->second.seenFrame != frame_) {
-      release(it->second);
-      it = blocks_.erase(it);
-    } else {
-      ++it;
-    }
-  }
   const bool overCap = [&] {
     std::uint64_t wanted = 0;  // at level 0: a cap that level 0 fits needs no distances
     for (const gs::ObjectInstanceGpu& inst : instances)
@@ -81,19 +67,31 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
     }
   }
-  // Each instance's level; a block of another level goes back to its free list (a new block of
-  // the right size is handed out below and relit first, as never lit).
+  // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
+  // free list first, so this frame's newcomers can take them; so do blocks of another level than
+  // the instance's now (a new block of the right size is handed out below and relit first, as
+  // never lit). One lookup per instance here.
   std::vector<std::uint32_t> level(instances.size(), 0u);
-  if (byDistance) {
-    for (std::uint32_t i = 0; i < instances.size(); ++i) {
-      auto it = blocks_.find(instances[i].info.z);
-      const int current = it == blocks_.end() ? -1 : int(it->second.level);
-      level[i] = levelAt(distance[i], levels.beyond, current);
-      if (current >= 0 && std::uint32_t(current) != level[i]) {
-        release(it->second);
-        blocks_.erase(it);
-        ++stats_.relevelled;
-      }
+  for (std::uint32_t i = 0; i < instances.size(); ++i) {
+    const gs::ObjectInstanceGpu& inst = instances[i];
+    auto it = blocks_.find(inst.info.z);
+    const bool sameMesh = it != blocks_.end() && it->second.mesh == inst.info.x;
+    if (sameMesh) it->second.seenFrame = frame_;
+    if (!byDistance) continue;
+    const int current = sameMesh ? int(it->second.level) : -1;
+    level[i] = levelAt(distance[i], levels.beyond, current);
+    if (current >= 0 && std::uint32_t(current) != level[i]) {
+      release(it->second);
+      blocks_.erase(it);
+      ++stats_.relevelled;
+    }
+  }
+  for (auto it = blocks_.begin(); it != blocks_.end();) {
+    if (it->second.seenFrame != frame_) {
+      release(it->second);
+      it = blocks_.erase(it);
+    } else {
+      ++it;
     }
   }
   auto texelsOf = [&](std::uint32_t i) -> std::uint32_t {
