@@ -48,8 +48,10 @@ MeshCards layoutCards(glm::vec3 boxMin, glm::vec3 boxMax, float voxel,
     c.info = glm::uvec4(axis, side, width, height);
     c.first = glm::uvec4(first, 0, out.lightTexels[1], out.lightTexels[2]);
     first += width * height;
-    for (std::uint32_t l = 1; l < gpu_shared::kCardLightLevels; ++l)
-      out.lightTexels[l] += gpu_shared::cardLightWidth(c, l) * gpu_shared::cardLightHeight(c, l);
+    for (std::uint32_t l = 1; l < gpu_shared::kCardLightLevels; ++l) {
+      const glm::uvec2 size = gpu_shared::cardLightSize(c, l);
+      out.lightTexels[l] += size.x * size.y;
+    }
   }
   out.texelCount = first;
   out.lightTexels[0] = first;

@@ -96,6 +96,14 @@ void printView(const fs::path& png, const ViewResult& r, bool gi) {
   if (r.nonFinite) std::printf("      warning: %zu pixels had non-finite radiance\n", r.nonFinite);
 }
 
+// A rendered view's PNGs, its report rows and its console line.
+void emitView(const fs::path& out, const std::string& name, const ViewResult& r, bool gi,
+              DemoTables& tables) {
+  writeViewPngs(out, name, r);
+  tables.addView(name, r, gi);
+  printView(out / ("view-" + name + ".png"), r, gi);
+}
+
 ObjectViewStats objectViewStats(const DemoObjects& objects, const ViewResult& r) {
   ObjectViewStats s;
   s.instances = objects.instances.size();
@@ -124,9 +132,7 @@ void renderViews(const World& world, gpu::Context* context, const RenderOptions&
     if (objects && i == views.size()) renderer.setObjects(objects, kObjectGiFrames);
     ViewResult r = renderer.render(v.camera, width, height);
     if (objects && i >= views.size() && objectStats) *objectStats = objectViewStats(*objects, r);
-    writeViewPngs(out, v.name, r);
-    tables.addView(v.name, r, options.gi);
-    printView(out / ("view-" + v.name + ".png"), r, options.gi);
+    emitView(out, v.name, r, options.gi, tables);
     if (objects && i >= views.size() && objectView) *objectView = std::move(r);
   }
 }
@@ -144,10 +150,7 @@ void renderCardBounce(const World& world, gpu::Context* context, const RenderOpt
   renderer.render(view.camera, width, height);  // the static warm-up, as before view `objects`
   renderer.setObjects(objects.get(), kObjectGiFrames);
   const ViewResult cardsOff = renderer.render(view.camera, width, height);
-  const std::string name = "objects-no-cards";
-  writeViewPngs(out, name, cardsOff);
-  tables.addView(name, cardsOff, off.gi);
-  printView(out / ("view-" + name + ".png"), cardsOff, off.gi);
+  emitView(out, "objects-no-cards", cardsOff, off.gi, tables);
   writePng(out / "view-objects-card-bounce.png",
            addedLight(cardsOn.indirectImage, cardsOff.indirectImage, 16.0f));
   if (!cardsOn.convergence.empty() && !cardsOff.convergence.empty()) {

@@ -222,7 +222,8 @@ std::vector<std::uint32_t> ObjectSceneCpu::cardLight(std::uint32_t instance,
       inst.info.w == gs::kNoCardLight ? 0u : inst.info.w >> gs::kCardLightLevelShift;
   for (std::uint32_t k = 0; k < gs::kCardsPerMesh; ++k) {
     const gs::CardGpu& c = cardTable_[inst.info.x * gs::kCardsPerMesh + k];
-    const std::uint32_t count = gs::cardLightWidth(c, level) * gs::cardLightHeight(c, level);
+    const glm::uvec2 size = gs::cardLightSize(c, level);
+    const std::uint32_t count = size.x * size.y;
     for (std::uint32_t t = 0; t < count; ++t) {
       const std::uint32_t cardTexel = p.cardLightTexel(c, level, t);
       const gs::CardTexelGpu& texel = cardTexels_[c.first.y - tableWords + c.first.x + cardTexel];

@@ -56,7 +56,8 @@ void main() {
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
   for (uint k = 0u; k < kCardsPerMesh; ++k) {
     CardGpu c = OBJ_CARD(inst.info.x * kCardsPerMesh + k);
-    uint count = cardLightWidth(c, level) * cardLightHeight(c, level);
+    uvec2 size = cardLightSize(c, level);
+    uint count = size.x * size.y;
     uint first = base + cardLightFirst(c, level);
     for (uint t = gl_GlobalInvocationID.x; t < count; t += gl_NumWorkGroups.x * gl_WorkGroupSize.x) {
       uint cardTexel = cardLightTexel(c, level, t);

@@ -40,7 +40,7 @@ vec3 cardTexelRadiance(ObjectInstanceGpu inst, ObjectMeshGpu m, CardGpu c, uint 
 // the footprint's centre (first in row order among equals), else the footprint's first texel.
 // Needs OBJ_CARD_TEXEL (CardGpu::first.y is the mesh's first texel there).
 uint cardLightTexel(CardGpu c, uint level, uint t) {
-  uint lightWidth = cardLightWidth(c, level);
+  uint lightWidth = cardLightSize(c, level).x;
   uint i0 = (t % lightWidth) << level;
   uint j0 = (t / lightWidth) << level;
   uint best = i0 + c.info.z * j0;

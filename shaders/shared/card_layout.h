@@ -45,20 +45,14 @@ struct CardGpu {
 // texels (capture) stay per mesh at full resolution; the lookup's depth test still uses them.
 SDF_CONST uint kCardLightLevels = 3u;
 
+// Light texels of card c at `level` along its u and v axes (x: width, y: height), rounded up.
 #ifdef __cplusplus
 inline
 #endif
-    uint
-    cardLightWidth(CardGpu c, uint level) {
-  return (c.info.z + (1u << level) - 1u) >> level;
-}
-
-#ifdef __cplusplus
-inline
-#endif
-    uint
-    cardLightHeight(CardGpu c, uint level) {
-  return (c.info.w + (1u << level) - 1u) >> level;
+    uvec2
+    cardLightSize(CardGpu c, uint level) {
+  uint up = (1u << level) - 1u;
+  return uvec2((c.info.z + up) >> level, (c.info.w + up) >> level);
 }
 
 #ifdef __cplusplus
@@ -75,7 +69,7 @@ inline
 #endif
     uint
     cardLightIndex(CardGpu c, uint level, uint i, uint j) {
-  return cardLightFirst(c, level) + (i >> level) + cardLightWidth(c, level) * (j >> level);
+  return cardLightFirst(c, level) + (i >> level) + cardLightSize(c, level).x * (j >> level);
 }
 
 // What a card texel sees (16 bytes). depth < 0: nothing (the view's ray leaves the box).

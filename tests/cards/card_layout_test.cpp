@@ -51,12 +51,12 @@ TEST(CardLayout, LightLevelsHalveEachCardRoundingUp) {
     EXPECT_EQ(gpu_shared::cardLightFirst(c, 0), c.first.x);
     EXPECT_EQ(gpu_shared::cardLightFirst(c, 1), first1) << k;
     EXPECT_EQ(gpu_shared::cardLightFirst(c, 2), first2) << k;
-    first1 += gpu_shared::cardLightWidth(c, 1) * gpu_shared::cardLightHeight(c, 1);
-    first2 += gpu_shared::cardLightWidth(c, 2) * gpu_shared::cardLightHeight(c, 2);
+    first1 += gpu_shared::cardLightSize(c, 1).x * gpu_shared::cardLightSize(c, 1).y;
+    first2 += gpu_shared::cardLightSize(c, 2).x * gpu_shared::cardLightSize(c, 2).y;
   }
   const CardGpu& c = m.cards[0];
-  EXPECT_EQ(gpu_shared::cardLightWidth(c, 1), 5u);
-  EXPECT_EQ(gpu_shared::cardLightHeight(c, 2), 2u);
+  EXPECT_EQ(gpu_shared::cardLightSize(c, 1).x, 5u);
+  EXPECT_EQ(gpu_shared::cardLightSize(c, 2).y, 2u);
   EXPECT_EQ(gpu_shared::cardLightIndex(c, 0, 9, 4), 9u + 10u * 4u);
   EXPECT_EQ(gpu_shared::cardLightIndex(c, 1, 9, 4), c.first.z + 4u + 5u * 2u);
   EXPECT_EQ(gpu_shared::cardLightIndex(c, 2, 9, 4), c.first.w + 2u + 3u * 1u);
