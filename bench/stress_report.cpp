@@ -306,12 +306,14 @@ std::string hostSection(const std::vector<StressRun>& runs) {
   std::string md =
       "\n## Host time\n\nCPU milliseconds per frame (medians): the scripted motion, then "
       "GiSystem's recording of the frame by part -- scene (page tables, streamed bricks), objects "
-      "(instances into stack space, region state, uploads; build: without the uploads), shadow "
-      "pages (light-cache pages the "
+      "(instances into stack space, region state, uploads; build: without the uploads, by part: "
+      "instances / changed boxes and wake bits / card light blocks), shadow pages (light-cache "
+      "pages the "
       "moves shadow), light (dirty pages, the light cache pass), probes (the probe passes). "
       "*host* = motion + recording; *wall* adds the blocking update's submit and its wait for the "
       "GPU.\n\n"
-      "| objects | mode | host ms | motion | scene | objects (build) | shadow pages | light | "
+      "| objects | mode | host ms | motion | scene | objects (build: instances / wake / cards) | "
+      "shadow pages | light | "
       "probes | wall ms | host us / instance |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   struct Point {
     double n, host, cost;
@@ -323,7 +325,9 @@ std::string hostSection(const std::vector<StressRun>& runs) {
     md += "| " + (hasObjects(r.mode) ? withCommas(r.objects) : std::string("-")) + " | " +
           modeName(r.mode) + " | " + format("%.3f", s.hostMs) + " | " + format("%.3f", s.motionMs) +
           " | " + format("%.3f", s.host.sceneMs) + " | " + format("%.3f", s.host.objectsMs) + " (" +
-          format("%.3f", s.host.objectsBuildMs) + ") | " + format("%.3f", s.host.shadowPagesMs) +
+          format("%.3f", s.host.objectsBuildMs) + ": " + format("%.3f", s.host.objectsInstancesMs) +
+          " / " + format("%.3f", s.host.objectsWakeMs) + " / " +
+          format("%.3f", s.host.objectsCardsMs) + ") | " + format("%.3f", s.host.shadowPagesMs) +
           " | " + format("%.3f", s.host.lightMs) + " | " + format("%.3f", s.host.probesMs) + " | " +
           format("%.3f", s.wallMs) + " | " +
           (r.objects ? format("%.3f", 1000.0 * s.hostMs / r.objects) : std::string("-")) + " |\n";
@@ -389,6 +393,7 @@ RunSummary summarize(const StressRun& run) {
   };
   for (double GiHostTimes::*part :
        {&GiHostTimes::sceneMs, &GiHostTimes::objectsMs, &GiHostTimes::objectsBuildMs,
+        &GiHostTimes::objectsInstancesMs, &GiHostTimes::objectsWakeMs, &GiHostTimes::objectsCardsMs,
         &GiHostTimes::shadowPagesMs, &GiHostTimes::lightMs, &GiHostTimes::probesMs,
         &GiHostTimes::totalMs})
     s.host.*part = hostPart(part);

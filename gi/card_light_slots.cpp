@@ -32,6 +32,27 @@ void CardLightSlots::release(const Block& block) {
   free_[block.mesh * kLevels + block.level].push_back(block.base);
 }
 
+CardLightSlots::Block* CardLightSlots::find(std::uint32_t id) {
+  return id < blocks_.size() && blocks_[id].mesh != kNoBlock ? &blocks_[id] : nullptr;
+}
+
+CardLightSlots::Block& CardLightSlots::insert(std::uint32_t id, const Block& block) {
+  if (id >= blocks_.size()) blocks_.resize(std::max<std::size_t>(id + 1, blocks_.size() * 3 / 2));
+  Block& b = blocks_[id];
+  b = block;
+  b.liveIndex = std::uint32_t(live_.size());
+  live_.push_back(id);
+  return b;
+}
+
+void CardLightSlots::erase(std::uint32_t id) {
+  const std::uint32_t at = blocks_[id].liveIndex;
+  blocks_[live_.back()].liveIndex = at;
+  live_[at] = live_.back();
+  live_.pop_back();
+  blocks_[id].mesh = kNoBlock;
+}
+
 std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGpu> instances,
                                                   std::span<const std::uint32_t> meshTexels,
                                                   bool relightAll, std::uint32_t budget,
@@ -49,17 +70,13 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // go first, yet when everything moves every instance still takes its turn: the oldest first).
   // Resetting every block to "never lit" on a light change instead would, with lights that change
   // every frame, relight the same lowest indices every frame and starve the rest.
-  struct Candidate {
-    std::int64_t key;
-    std::uint32_t index;
-  };
   const bool overCap = [&] {
     std::uint64_t wanted = 0;  // at level 0: a cap that level 0 fits needs no distances
     for (const gs::ObjectInstanceGpu& inst : instances)
       wanted += inst.info.x < meshTexels.size() ? meshTexels[inst.info.x] : 0u;
     return wanted > capacityTexels;
   }();
-  std::vector<float> distance;
+  std::vector<float>& distance = distance_;
   if (byDistance || overCap) {
     distance.resize(instances.size());
     for (std::uint32_t i = 0; i < instances.size(); ++i) {
@@ -71,27 +88,29 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // free list first, so this frame's newcomers can take them; so do blocks of another level than
   // the instance's now (a new block of the right size is handed out below and relit first, as
   // never lit). One lookup per instance here.
-  std::vector<std::uint32_t> level(instances.size(), 0u);
+  std::vector<std::uint32_t>& level = level_;
+  level.assign(instances.size(), 0u);
   for (std::uint32_t i = 0; i < instances.size(); ++i) {
     const gs::ObjectInstanceGpu& inst = instances[i];
-    auto it = blocks_.find(inst.info.z);
-    const bool sameMesh = it != blocks_.end() && it->second.mesh == inst.info.x;
-    if (sameMesh) it->second.seenFrame = frame_;
+    Block* block = find(inst.info.z);
+    const bool sameMesh = block && block->mesh == inst.info.x;
+    if (sameMesh) block->seenFrame = frame_;
     if (!byDistance) continue;
-    const int current = sameMesh ? int(it->second.level) : -1;
+    const int current = sameMesh ? int(block->level) : -1;
     level[i] = levelAt(distance[i], levels.beyond, current);
     if (current >= 0 && std::uint32_t(current) != level[i]) {
-      release(it->second);
-      blocks_.erase(it);
+      release(*block);
+      erase(inst.info.z);
       ++stats_.relevelled;
     }
   }
-  for (auto it = blocks_.begin(); it != blocks_.end();) {
-    if (it->second.seenFrame != frame_) {
-      release(it->second);
-      it = blocks_.erase(it);
+  for (std::size_t k = 0; k < live_.size();) {
+    const std::uint32_t id = live_[k];
+    if (blocks_[id].seenFrame != frame_) {
+      release(blocks_[id]);
+      erase(id);  // the last live id moves to k: look at k again
     } else {
-      ++it;
+      ++k;
     }
   }
   auto texelsOf = [&](std::uint32_t i) -> std::uint32_t {
@@ -103,9 +122,11 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // and evict the rest (their blocks return to the free lists before anyone allocates).
   std::uint64_t wanted = 0;
   for (std::uint32_t i = 0; i < instances.size(); ++i) wanted += texelsOf(i);
-  std::vector<std::uint32_t> order(instances.size());
+  std::vector<std::uint32_t>& order = order_;
+  order.resize(instances.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::vector<bool> kept(instances.size(), true);
+  std::vector<std::uint8_t>& kept = kept_;
+  kept.assign(instances.size(), 1u);
   if (wanted > capacityTexels) {
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
@@ -116,15 +137,15 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     }
     for (std::uint32_t i = 0; i < instances.size(); ++i) {
       if (kept[i]) continue;
-      auto it = blocks_.find(instances[i].info.z);
-      if (it == blocks_.end()) continue;
-      release(it->second);
-      blocks_.erase(it);
+      Block* block = find(instances[i].info.z);
+      if (!block) continue;
+      release(*block);
+      erase(instances[i].info.z);
       ++stats_.evicted;
     }
   }
-  std::vector<Candidate> candidates;
-  candidates.reserve(instances.size());
+  std::vector<Candidate>& candidates = candidates_;
+  candidates.clear();
   for (std::uint32_t i : order) {
     gs::ObjectInstanceGpu& inst = instances[i];
     inst.info.w = gs::kNoCardLight;
@@ -135,8 +156,8 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       ++stats_.overBudget;
       continue;
     }
-    auto it = blocks_.find(inst.info.z);
-    if (it == blocks_.end()) {
+    Block* found = find(inst.info.z);
+    if (!found) {
       Block block;
       block.mesh = mesh;
       block.level = level[i];
@@ -152,9 +173,9 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
         ++stats_.overBudget;
         continue;
       }
-      it = blocks_.emplace(inst.info.z, block).first;
+      found = &insert(inst.info.z, block);
     }
-    const Block& block = it->second;
+    const Block& block = *found;
     inst.info.w = block.base | block.level << gs::kCardLightLevelShift;
     ++stats_.withCards;
     ++stats_.atLevel[block.level];

@@ -143,6 +143,9 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
     stats.objectInstances = std::uint32_t(instances_->size());
     stats.host.objectsMs = millisecondsSince(t);
     stats.host.objectsBuildMs = objects_.lastBuildMilliseconds();
+    stats.host.objectsInstancesMs = objects_.frame().instancesMs;
+    stats.host.objectsWakeMs = objects_.frame().wakeMs;
+    stats.host.objectsCardsMs = objects_.lastCardsMilliseconds();
     t = Clock::now();
     // Only where objects moved: the pages their old and new poses shadow.
     shadowed = objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);

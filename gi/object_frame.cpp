@@ -1,11 +1,15 @@
 #include "gi/object_frame.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
+#include <chrono>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 namespace sdfstream {
@@ -90,9 +94,83 @@ void wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtC
   hi = glm::max(b, centre + reach);
 }
 
+// Sets the wake bit of sub-cell (x, y, z) (cascade sub-cell coordinates, 0..63) in its region.
+inline void setWakeRow(gs::ObjectRegionGpu* regions, int rx, int y, int z, std::uint32_t row) {
+  gs::ObjectRegionGpu& region = regions[rx + 8 * (y / 8 + 8 * (z / 8))];
+  const int sy = y % 8, sz = z % 8;
+  region.wake[sy / 4 + 2 * sz] |= row << (8 * (sy % 4));
+}
+
+// Rows of 8 sub-cells a range spans (the cost of marking it row by row).
+std::uint64_t wakeRows(const ObjectFrameData::SubCellRange& r) {
+  if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) return 0;
+  return std::uint64_t(r.hi.z - r.lo.z + 1) * std::uint64_t(r.hi.y - r.lo.y + 1) *
+         std::uint64_t(r.hi.x / 8 - r.lo.x / 8 + 1);
+}
+
+// Row by row, parallel over the slabs of regions along z: each task owns its regions, so no
+// atomics. Cost: the rows the boxes span, so for a few boxes.
+void markWakeRowsInSlab(std::uint32_t c, int slab, std::uint32_t cascades,
+                        const ObjectFrameData& in, gs::ObjectRegionGpu* regions) {
+  const int zLo = slab * int(gs::kSubCellsPerAxis);
+  const int zHi = zLo + int(gs::kSubCellsPerAxis) - 1;
+  for (std::size_t k = 0; k < in.changedBoxes.size(); ++k) {
+    const ObjectFrameData::SubCellRange& r = in.wakeRanges[k * cascades + c];
+    if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) continue;
+    const int z0 = std::max(r.lo.z, zLo), z1 = std::min(r.hi.z, zHi);
+    for (int z = z0; z <= z1; ++z)
+      for (int y = r.lo.y; y <= r.hi.y; ++y)
+        for (int rx = r.lo.x / 8; rx <= r.hi.x / 8; ++rx) {
+          const int x0 = std::max(r.lo.x - rx * 8, 0), x1 = std::min(r.hi.x - rx * 8, 7);
+          setWakeRow(regions, rx, y, z, ((2u << x1) - 1u) & ~((1u << x0) - 1u));
+        }
+  }
+}
+
+// Through a grid of counts: each box adds +-1 at the 8 corners of its range (inclusion-exclusion),
+// three prefix sums turn that into the number of boxes covering each sub-cell, and the covered
+// ones become wake bits. Cost: 8 updates a box plus 3 passes over the cascade's 64^3 sub-cells,
+// whatever the boxes' sizes (10,000 moving objects span ~10^6 rows).
+void markWakeGrid(std::uint32_t c, std::uint32_t cascades, ObjectFrameData& out,
+                  gs::ObjectRegionGpu* regions) {
+  constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
+  std::vector<std::int32_t>& grid = out.wakeGrids[c];
+  grid.assign(std::size_t(kSubs) * kSubs * kSubs, 0);
+  const auto at = [](int x, int y, int z) { return std::size_t(x + kSubs * (y + kSubs * z)); };
+  for (std::size_t k = 0; k < out.changedBoxes.size(); ++k) {
+    const ObjectFrameData::SubCellRange& r = out.wakeRanges[k * cascades + c];
+    if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) continue;
+    const glm::ivec3 corner[2] = {r.lo, r.hi + 1};
+    for (int n = 0; n < 8; ++n) {
+      const int x = corner[n & 1].x, y = corner[(n >> 1) & 1].y, z = corner[n >> 2].z;
+      if (x >= kSubs || y >= kSubs || z >= kSubs) continue;  // past the grid: sums never reach it
+      grid[at(x, y, z)] += (std::popcount(unsigned(n)) & 1) ? -1 : 1;
+    }
+  }
+  tbb::parallel_for(0, kSubs, [&](int z) {  // along x, then y, within each z plane
+    for (int y = 0; y < kSubs; ++y)
+      for (int x = 1; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x - 1, y, z)];
+    for (int y = 1; y < kSubs; ++y)
+      for (int x = 0; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x, y - 1, z)];
+  });
+  tbb::parallel_for(0, kSubs, [&](int y) {  // along z, then the bits of this row of sub-cells
+    for (int z = 1; z < kSubs; ++z)
+      for (int x = 0; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x, y, z - 1)];
+  });
+  tbb::parallel_for(0, int(gs::kRegionsPerAxis), [&](int slab) {  // each task owns its regions
+    for (int z = slab * 8; z < slab * 8 + 8; ++z)
+      for (int y = 0; y < kSubs; ++y)
+        for (int rx = 0; rx < int(gs::kRegionsPerAxis); ++rx) {
+          std::uint32_t row = 0;
+          for (int x = 0; x < 8; ++x) row |= grid[at(rx * 8 + x, y, z)] > 0 ? 1u << x : 0u;
+          if (row) setWakeRow(regions, rx, y, z, row);
+        }
+  });
+}
+
 // Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
-// touches. Parallel over (cascade, slab of regions along z): each task owns its regions, so no
-// atomics; each reads the boxes' sub-cell ranges computed once, in parallel, beforehand.
+// touches. Each box's sub-cell range per cascade is computed once, in parallel; then per cascade
+// the cheaper of marking rows (few or small boxes) and a grid of counts (many).
 void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
                       ObjectFrameData& out) {
@@ -104,8 +182,10 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
   const float invSqrtChange =
       1.0f / std::sqrt(std::clamp(settings.wakeIrradianceChange, 1e-4f, 1.0f));
   out.wakeRanges.resize(boxes * cascades);
+  std::array<std::atomic<std::uint64_t>, gs::kMaxRegionCascades> rows{};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes, 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::array<std::uint64_t, gs::kMaxRegionCascades> local{};
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
                         glm::vec3 lo, hi;
                         wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
@@ -120,41 +200,46 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                           if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
                               glm::any(glm::greaterThan(a, glm::vec3(float(kSubs)))))
                             r.hi = glm::ivec3(-1);
+                          local[c] += wakeRows(r);
                         }
                       }
+                      for (std::uint32_t c = 0; c < cascades; ++c) rows[c] += local[c];
                     });
-  const int slabs = int(gs::kRegionsPerAxis);
-  std::atomic<std::uint32_t> movedRegions{0};
-  tbb::parallel_for(
-      tbb::blocked_range<int>(0, int(cascades) * slabs, 1),
-      [&](const tbb::blocked_range<int>& tasks) {
-        for (int task = tasks.begin(); task != tasks.end(); ++task) {
-          const std::uint32_t c = std::uint32_t(task / slabs);
-          const int zLo = (task % slabs) * int(gs::kSubCellsPerAxis);
-          const int zHi = zLo + int(gs::kSubCellsPerAxis) - 1;
-          gs::ObjectRegionGpu* regions = out.regions.data() + c * gs::kRegionsPerCascade;
-          for (std::size_t k = 0; k < boxes; ++k) {
-            const Range& r = out.wakeRanges[k * cascades + c];
-            if (r.lo.x > r.hi.x || r.lo.y > r.hi.y || r.lo.z > r.hi.z) continue;
-            const int z0 = std::max(r.lo.z, zLo), z1 = std::min(r.hi.z, zHi);
-            for (int z = z0; z <= z1; ++z)
-              for (int y = r.lo.y; y <= r.hi.y; ++y)
-                for (int rx = r.lo.x / 8; rx <= r.hi.x / 8; ++rx) {
-                  const int x0 = std::max(r.lo.x - rx * 8, 0), x1 = std::min(r.hi.x - rx * 8, 7);
-                  const std::uint32_t row = ((2u << x1) - 1u) & ~((1u << x0) - 1u);
-                  gs::ObjectRegionGpu& region = regions[rx + 8 * (y / 8 + 8 * (z / 8))];
-                  const int sy = y % 8, sz = z % 8;
-                  region.wake[sy / 4 + 2 * sz] |= row << (8 * (sy % 4));
-                  region.moved = 1u;
-                }
-          }
-          // The task's own regions (slab z of cascade c), now final: count the moved ones.
-          std::uint32_t moved = 0;
-          for (int r = zLo / 8 * 64; r < zLo / 8 * 64 + 64; ++r) moved += regions[r].moved;
-          movedRegions += moved;
-        }
+  // Both ways set the same bits; the grid's fixed cost pays off from wakeGridFromRows rows.
+  std::vector<int> rowTasks;  // (cascade, slab) pairs marked row by row
+  std::vector<std::uint32_t> gridCascades;
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    if (rows[c] == 0) continue;
+    if (rows[c] >= settings.wakeGridFromRows) {
+      gridCascades.push_back(c);
+      if (out.wakeGrids.size() <= c) out.wakeGrids.resize(c + 1);
+    } else {
+      for (int slab = 0; slab < int(gs::kRegionsPerAxis); ++slab)
+        rowTasks.push_back(int(c) * int(gs::kRegionsPerAxis) + slab);
+    }
+  }
+  tbb::parallel_invoke(
+      [&] {
+        tbb::parallel_for(std::size_t(0), rowTasks.size(), [&](std::size_t t) {
+          const std::uint32_t c = std::uint32_t(rowTasks[t]) / gs::kRegionsPerAxis;
+          markWakeRowsInSlab(c, rowTasks[t] % int(gs::kRegionsPerAxis), cascades, out,
+                             out.regions.data() + c * gs::kRegionsPerCascade);
+        });
+      },
+      [&] {
+        tbb::parallel_for(std::size_t(0), gridCascades.size(), [&](std::size_t i) {
+          const std::uint32_t c = gridCascades[i];
+          markWakeGrid(c, cascades, out, out.regions.data() + c * gs::kRegionsPerCascade);
+        });
       });
-  out.movedRegions = movedRegions;
+  std::uint32_t moved = 0;
+  for (gs::ObjectRegionGpu& region : out.regions) {
+    std::uint32_t any = 0;
+    for (std::uint32_t w : region.wake) any |= w;
+    region.moved = any != 0u ? 1u : 0u;
+    moved += region.moved;
+  }
+  out.movedRegions = moved;
 }
 }  // namespace
 
@@ -176,6 +261,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
 
   // The instances in stack space, in parallel (a 4×4 inverse each), with what the frame sums
   // over them: the list capacity, the cascades listing anything, the box around them all.
+  const auto start = std::chrono::steady_clock::now();
   const std::span<const Instance> all = instances.instances();
   for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
   out.instances.resize(all.size());
@@ -221,12 +307,17 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   out.movedInstances = totals.moved;
   f.boundsMin = glm::vec4(totals.lo, 0.0f);
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
+  const auto instancesDone = std::chrono::steady_clock::now();
+  out.instancesMs = std::chrono::duration<double, std::milli>(instancesDone - start).count();
 
   // Where probes wake: sub-cells near something that moved, appeared or vanished (old and new
   // poses as one box each), within the distance at which it can still change a probe's
   // irradiance by wakeIrradianceChange (ObjectSceneSettings).
   instances.changedBounds(library, out.changedBoxes);
   markWakeSubCells(f, cascades, stack, settings, out);
+  out.wakeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                         instancesDone)
+                   .count();
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   f.counts.z = out.listCapacity;

@@ -203,7 +203,9 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     viewer = glm::vec3(stack.params[0].offsetScale) + halfExtent;
     levelBeyond = std::max(settings_.cardLevelDistance, 0.0f) * halfExtent;
   }
+  const auto cardsStart = std::chrono::steady_clock::now();
   recordCardLight(batch, staging, lightsChanged, viewer, levelBeyond);
+  cardsMilliseconds_ = millisecondsSince(cardsStart);
   buildMilliseconds_ = millisecondsSince(buildStart);
   timings_.clear();
 

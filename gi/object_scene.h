@@ -115,6 +115,8 @@ class ObjectScene {
   const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }
   // CPU time of the last record's buildObjectFrame (the rest of record is uploads).
   double lastBuildMilliseconds() const { return buildMilliseconds_; }
+  // ... of which assigning the card light blocks (CardLightSlots::assign).
+  double lastCardsMilliseconds() const { return cardsMilliseconds_; }
   std::size_t deviceBytes() const;
 
  private:
@@ -152,6 +154,7 @@ class ObjectScene {
   friend class GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_, traceTimings_;
   double buildMilliseconds_ = 0.0;
+  double cardsMilliseconds_ = 0.0;
 };
 
 }  // namespace sdfstream

@@ -267,6 +267,17 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
     ++far;
     falseWakes += cpu.wakes(p, 0) ? 1 : 0;
   }
+  // The same frame's bits through the grid of counts (forced for every cascade) are the same.
+  ObjectSceneSettings gridSettings = settings;
+  gridSettings.wakeGridFromRows = 0;
+  const ObjectSceneCpu grid(objects.library, objects.instances, stack, gridSettings);
+  std::size_t gridDiffer = 0;
+  for (std::size_t r = 0; r < frame.regions.size(); ++r) {
+    gridDiffer += grid.frame().regions[r].moved != frame.regions[r].moved ? 1 : 0;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w)
+      gridDiffer += grid.frame().regions[r].wake[w] != frame.regions[r].wake[w] ? 1 : 0;
+  }
+  EXPECT_EQ(gridDiffer, 0u);
   std::printf(
       "[figures] %zu changes: %zu wake sub-cells set, %zu differ from brute force; %zu points "
       "within wake distance, %zu not woken; %zu points far from every change, %zu woken\n",
@@ -277,6 +288,58 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   EXPECT_EQ(missed, 0u);
   EXPECT_GT(far, 100u);
   EXPECT_EQ(falseWakes, 0u);
+}
+
+// Thousands of changes of every size (0.05-4 m, some far outside cascade 0, some spanning the
+// whole grid) through both ways of marking: the grid of counts that many changes take and the
+// rows that few take (checked against brute force above) set the same bits in every cascade.
+TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
+  const CascadeStackImage stack = test::windowsOnlyStack(4);
+  test::RandomObjects objects;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const glm::dvec3 centre = stack.cascade0MinWorld + glm::dvec3(64.0 * stack.voxelSize0);
+  std::vector<InstanceId> ids;
+  for (int k = 0; k < 3000; ++k) {
+    ObjectTransform pose;
+    const double spread = k % 10 == 0 ? 120.0 : 20.0;
+    pose.translation = centre + spread * glm::dvec3(u(rng), u(rng), u(rng));
+    pose.rotation = glm::angleAxis(float(u(rng)) * 3.14159f, glm::normalize(glm::vec3(3, 1, 2)));
+    pose.scale = glm::vec3(float(k % 97 == 0 ? 4.0 : 0.3 + 0.25 * u(rng)));
+    ids.push_back(objects.instances.add(k % 2 ? objects.box : objects.sphere, pose));
+  }
+  objects.instances.endFrame();
+  for (std::size_t k = 0; k < ids.size(); k += 2) {
+    ObjectTransform pose = objects.instances.find(ids[k])->pose;
+    pose.translation += 0.5 * glm::dvec3(u(rng), u(rng), u(rng));
+    objects.instances.move(ids[k], pose);
+  }
+  for (std::size_t k = 1; k < ids.size(); k += 9) objects.instances.remove(ids[k]);
+
+  ObjectSceneSettings rows, grid;
+  rows.wakeGridFromRows = ~std::uint64_t(0);
+  grid.wakeGridFromRows = 0;
+  const ObjectFrameData a =
+      buildObjectFrame(objects.library, objects.instances, stack, rows);
+  const ObjectFrameData b =
+      buildObjectFrame(objects.library, objects.instances, stack, grid);
+  ASSERT_EQ(a.regions.size(), b.regions.size());
+  std::size_t differ = 0, bits = 0;
+  for (std::size_t r = 0; r < a.regions.size(); ++r) {
+    differ += a.regions[r].moved != b.regions[r].moved ? 1 : 0;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w) {
+      differ += a.regions[r].wake[w] != b.regions[r].wake[w] ? 1 : 0;
+      bits += std::uint32_t(std::popcount(a.regions[r].wake[w]));
+    }
+  }
+  std::printf("[figures] %zu changed boxes: %zu wake bits set, %zu words differ, %u vs %u moved "
+              "regions\n",
+              a.changedBoxes.size(), bits, differ, a.movedRegions, b.movedRegions);
+  EXPECT_GT(a.changedBoxes.size(), 1500u);
+  EXPECT_GT(bits, 10000u);
+  EXPECT_LT(bits, a.regions.size() * 512);  // not everything: the far cascades' edges stay asleep
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(a.movedRegions, b.movedRegions);
 }
 
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
