@@ -5,12 +5,8 @@
 // sun every box's shadow is found at once through a page-resolution shadow map per cascade (the
 // changed boxes' nearest depth per light-space cell), which each of the cascade's 4,096 pages then
 // looks up: O(boxes + pages) per cascade and sun. Point and spot lights, whose shadows diverge,
-// sweep each box away from the light in segments. Cascades are independent and run in parallel,
-// and within one so do chunks of boxes, each with its own shadow map (merged by minimum before
-// the page lookups): 10,000 moving boxes were ~1 ms of serial work per cascade. Atomic minima
-// per cell instead cost half again as much on two cores.
+// sweep each box away from the light in segments. Cascades are independent and run in parallel.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -57,11 +53,7 @@ struct CascadePages {
            16u * (((std::uint32_t(p.y) + toroidal.y) & 15u) +
                   16u * ((std::uint32_t(p.z) + toroidal.z) & 15u));
   }
-  // Any thread may mark any page: each mark is its own byte, set and never cleared here (a
-  // relaxed atomic store is a plain store on x86).
-  void markPage(glm::ivec3 p) const {
-    std::atomic_ref<std::uint8_t>(marked[entry(p)]).store(1, std::memory_order_relaxed);
-  }
+  void markPage(glm::ivec3 p) const { marked[entry(p)] = 1; }
   bool resident(glm::ivec3 p) const { return (pageTable[entry(p)] & gs::kPageResidentBit) != 0; }
   // Every page the box overlaps (faces included).
   void markBox(const Box& b) const {
@@ -77,15 +69,12 @@ struct CascadePages {
   }
 };
 
-// Boxes per chunk of a cascade's parallel work.
-constexpr std::size_t kChunkBoxes = 1024;
-
 // Marks the pages the boxes overlap (the objects' own surfaces, what they cover) and returns the
 // boxes as the cascade's shadow map sees them, fewer: a box at most half a shadow cell wide grows
 // to the cells (a quarter page each, inside one page) it touches, and each such cell is kept
 // once; larger boxes and boxes outside the window stay as they are. Growing a box only adds
 // shadow, so this stays conservative, and in coarse cascades thousands of small objects share a
-// few hundred cells. (Called per chunk of boxes: a cell shared by two chunks is kept by both.)
+// few hundred cells.
 std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<const Box> boxes) {
   constexpr int kCells = kPagesPerAxis * int(kShadowCellsPerPage);  // per axis
   const float cell = pages.edge / kShadowCellsPerPage;
@@ -128,8 +117,7 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
 // holds a depth no farther than the page's far side. Conservative: a point x of a box shadows
 // a point x + s·away (s >= 0) of the page; both project to one cell, whose depth is at most
 // depth(x) <= depth(x + s·away) <= the page's far depth.
-void markSunShadows(const CascadePages& pages, std::span<const std::vector<Box>> chunks,
-                    glm::vec3 away) {
+void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 away) {
   // A light-space basis: `away` and two unit vectors across it.
   const glm::vec3 helper = std::abs(away.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
   const glm::vec3 t1 = glm::normalize(glm::cross(away, helper));
@@ -151,7 +139,7 @@ void markSunShadows(const CascadePages& pages, std::span<const std::vector<Box>>
   const float cell = pages.edge / kShadowCellsPerPage;
   const glm::ivec2 cells =
       glm::max(glm::ivec2(glm::ceil((cascade.hi - cascade.lo) / cell)), glm::ivec2(1));
-  const std::size_t mapCells = std::size_t(cells.x) * std::size_t(cells.y);
+  std::vector<float> nearest(std::size_t(cells.x) * std::size_t(cells.y), 1e30f);
   // Inclusive cell range of a footprint; false when it misses the map.
   auto cellRange = [&](const Footprint& f, glm::ivec2& a, glm::ivec2& z) {
     if (f.hi.x < cascade.lo.x || f.hi.y < cascade.lo.y || f.lo.x > cascade.hi.x ||
@@ -161,34 +149,20 @@ void markSunShadows(const CascadePages& pages, std::span<const std::vector<Box>>
     z = glm::clamp(glm::ivec2(glm::floor((f.hi - cascade.lo) / cell)), glm::ivec2(0), cells - 1);
     return true;
   };
-  // A map per chunk, in parallel; then the first holds their minimum.
-  std::vector<std::vector<float>> maps(chunks.size());
-  std::atomic<bool> any{false};
-  tbb::parallel_for(std::size_t(0), chunks.size(), [&](std::size_t k) {
-    std::vector<float>& map = maps[k];
-    map.assign(mapCells, 1e30f);
-    for (const Box& b : chunks[k]) {
-      const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
-      glm::ivec2 a, z;
-      // A box past the cascade's far side shadows nothing of it.
-      if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
-      any.store(true, std::memory_order_relaxed);
-      for (int y = a.y; y <= z.y; ++y)
-        for (int x = a.x; x <= z.x; ++x) {
-          float& d = map[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
-          d = std::min(d, f.nearDepth);
-        }
-    }
-  });
+  bool any = false;
+  for (const Box& b : boxes) {
+    const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
+    glm::ivec2 a, z;
+    // A box past the cascade's far side shadows nothing of it.
+    if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
+    any = true;
+    for (int y = a.y; y <= z.y; ++y)
+      for (int x = a.x; x <= z.x; ++x) {
+        float& d = nearest[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
+        d = std::min(d, f.nearDepth);
+      }
+  }
   if (!any) return;
-  std::vector<float>& nearest = maps[0];
-  if (maps.size() > 1)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mapCells, 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t k = 1; k < maps.size(); ++k)
-                          for (std::size_t i = range.begin(); i != range.end(); ++i)
-                            nearest[i] = std::min(nearest[i], maps[k][i]);
-                      });
   // Only resident pages can be relit, so only they are looked up; slabs of pages in parallel
   // (each page's mark is its own byte).
   const glm::vec3 pageHalf(0.5f * pages.edge);
@@ -234,22 +208,20 @@ Box pointShadowSegment(const Box& b, glm::vec3 lightPos, float s0, float s1) {
 void markPointShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 lightPos,
                       float reach) {
   const Box window{pages.origin, pages.origin + glm::vec3(float(kPagesPerAxis) * pages.edge)};
-  if (std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return contains(b, lightPos); })) {
-    pages.markBox(window);
-    return;
+  for (const Box& b : boxes) {
+    if (contains(b, lightPos)) {
+      pages.markBox(window);
+      return;
+    }
+    for (float s0 = 0.0f; s0 < reach;) {
+      const float s1 = std::min(reach, s0 + std::max(pages.edge, 0.25f * s0));
+      const Box seg = pointShadowSegment(b, lightPos, s0, s1);
+      if (glm::all(glm::lessThanEqual(seg.lo, window.hi)) &&
+          glm::all(glm::greaterThanEqual(seg.hi, window.lo)))
+        pages.markBox(seg);
+      s0 = s1;
+    }
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i)
-                        for (float s0 = 0.0f; s0 < reach;) {
-                          const float s1 = std::min(reach, s0 + std::max(pages.edge, 0.25f * s0));
-                          const Box seg = pointShadowSegment(boxes[i], lightPos, s0, s1);
-                          if (glm::all(glm::lessThanEqual(seg.lo, window.hi)) &&
-                              glm::all(glm::greaterThanEqual(seg.hi, window.lo)))
-                            pages.markBox(seg);
-                          s0 = s1;
-                        }
-                    });
 }
 }  // namespace
 
@@ -277,14 +249,8 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
   }
   // Cascades are independent; inside one, the shadow map's page lookups run in parallel too
   // (cascade 0 holds most of the boxes, so splitting by cascade alone leaves cores idle).
-  const std::size_t chunks = (boxes.size() + kChunkBoxes - 1) / kChunkBoxes;
   tbb::parallel_for(std::size_t(0), cascades, [&](std::size_t c) {
-    std::vector<std::vector<Box>> casters(chunks);
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-      const std::size_t first = k * kChunkBoxes;
-      casters[k] = markBoxesAndGatherCasters(
-          grids[c], std::span(boxes).subspan(first, std::min(kChunkBoxes, boxes.size() - first)));
-    });
+    const std::vector<Box> casters = markBoxesAndGatherCasters(grids[c], boxes);
     for (const gs::GpuLight& l : lights) {
       if (l.shape.w <= 0.5f) continue;  // casts no shadow
       if (isSun(l)) {
