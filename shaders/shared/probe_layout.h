@@ -104,11 +104,14 @@ SDF_CONST uint kProbeOptionAdaptiveHysteresis = 32u;
 SDF_CONST uint kProbeOptionFirstFrame = 64u;    // reset every probe (first frame, settings)
 SDF_CONST uint kProbeOptionCacheCheck = 128u;   // a window scrolled or pages changed: validate
 SDF_CONST uint kProbeOptionObjects = 512u;      // moving objects are bound (object_bindings.glsl)
-SDF_CONST uint kProbeObjectMaskShift = 12u;     // bits 12..15: region cascades listing an object
 SDF_CONST uint kProbeOptionObjectsNaive = 1024u;  // every ray against every object (stress peer)
 SDF_CONST uint kProbeOptionBackfacesBlack = 2048u;  // blend backface rays as black radiance
 SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every corner, not only
                                                    // where Chebyshev is unsure (probe_sample.glsl)
+// Bits 16..19: the region cascades listing an object (above every option bit; the mask once
+// shared bit 12 with kProbeOptionSdfEverywhere, which turned SDF visibility on everywhere
+// whenever cascade 0 listed an object).
+SDF_CONST uint kProbeObjectMaskShift = 16u;
 
 // Push constants of every probe field pass: which sub-pass, how many threads.
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
@@ -155,6 +158,8 @@ static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 144);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
+static_assert(sdfstream::gpu_shared::kProbeOptionSdfEverywhere <
+              (1u << sdfstream::gpu_shared::kProbeObjectMaskShift));  // no option in the mask
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==
               sdfstream::gpu_shared::kProbeIrradianceInterior *
