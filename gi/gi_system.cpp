@@ -34,7 +34,8 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       probes_(context, settings.probes, cascades),
       objects_(context, settings.objects),
       staging_(context, std::max(1u, settings.framesInFlight)),
-      relight_(settings.light.relightPageBudget) {}
+      relight_(settings.light.relightPageBudget),
+      lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {}
 
 // Frames still in flight keep their batches (query pools) alive until the GPU is done with them:
 // CommandBatch's destruction is deferred like every other GPU object's.
@@ -130,6 +131,11 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   // not when cascade 0 moves and their cascade-relative GPU form with it.
   const bool lightsChanged =
       lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
+  // A small change (a sun turning a fraction of a degree a frame) is a drift for the probes: the
+  // light cache and the cards still relight (within their budgets), but no probe wakes.
+  const bool lightsDrifted = lightsChanged && lightsVersion_ != ~std::uint64_t(0) &&
+                             isLightDrift(lastLights_, lights, lightDrift_);
+  if (lightsChanged) lastLights_ = lights;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();
   const std::vector<std::uint32_t> changed = lightDirtyPages(previous_.get(), image, false);
@@ -161,7 +167,8 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   stats.host.lightMs += millisecondsSince(t);
   t = Clock::now();
   inputs.sky = sky;
-  inputs.lightsChanged = inputs.lightsChanged || lightsChanged;
+  inputs.lightsChanged = inputs.lightsChanged || (lightsChanged && !lightsDrifted);
+  inputs.lightsDrifting = inputs.lightsDrifting || lightsDrifted;
   stats.probesPaused = inputs.paused;
   if (!inputs.paused)
     probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);

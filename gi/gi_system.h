@@ -23,6 +23,7 @@
 #include "gi/gi_host_times.h"
 #include "gi/gpu_stack_scene.h"
 #include "gi/light_cache.h"
+#include "gi/light_drift.h"
 #include "gi/object_scene.h"
 #include "gi/probe_field.h"
 #include "gi/scene_lights.h"
@@ -165,6 +166,8 @@ class GiSystem {
   LightRelightQueue relight_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   std::size_t lightCount_ = 0;
+  SceneLights lastLights_;  // the previous frame's, to tell a drift from a change
+  LightDriftLimits lightDrift_;
   std::deque<FrameInFlight> inFlight_;
   std::optional<GiFrameStats> completed_;
 };

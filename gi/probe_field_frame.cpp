@@ -116,6 +116,9 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
     options |= gpu_shared::kProbeOptionNoChebyshev;
   if (!s.sdfVisibilityWhereUnsure) options |= gpu_shared::kProbeOptionSdfEverywhere;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
+  const bool drifting = in.lightsDrifting && !in.lightsChanged && !first_;
+  if (drifting) options |= gpu_shared::kProbeOptionLightsDrifting;
+  if (driftedBefore_) options |= gpu_shared::kProbeOptionDriftedBefore;
   if (s.adaptiveHysteresis) options |= gpu_shared::kProbeOptionAdaptiveHysteresis;
   if (s.backfacesBlack) options |= gpu_shared::kProbeOptionBackfacesBlack;
   if (first_) options |= gpu_shared::kProbeOptionFirstFrame;
@@ -132,6 +135,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   gridOrigins_ = std::move(gridOrigins);
   windowWorld_ = std::move(windowWorld);
   pageTables_ = stack.pageTables;
+  driftedBefore_ = drifting;
   first_ = false;
   return out;
 }

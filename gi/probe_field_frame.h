@@ -64,6 +64,14 @@ struct ProbeFieldSettings {
                                        // x rays x rotations x 8 bytes)
   bool states = true;                  // M21 Sec. 5 probe states
   std::uint32_t sleepPeriod = 8;       // sleeping probes refresh every this many frames
+  // A light change this small is a drift, not a wake (GiSystem): every sun turns by at most
+  // this many degrees since the last frame, and every light's and the sky's colour x intensity
+  // changes by at most lightDriftIntensity of it, with nothing else changed. A drift wakes no
+  // probe (a sun that moves a fraction of a degree a frame woke the whole field every frame:
+  // ~6 ms on the H200, docs/GPU_BUDGET.md); sleeping probes follow it at their refreshes. 0: every
+  // light change wakes the field.
+  float lightDriftDegrees = 1.0f;
+  float lightDriftIntensity = 0.05f;
   float sleepThreshold = 0.05f;        // an update is "quiet" when its fresh estimate of the mean
                                        // irradiance is within this of the stored one
   bool relocation = true;              // SDFDDGI Sec. 4.1
@@ -99,6 +107,10 @@ struct ProbeFrameInputs {
   glm::vec3 viewDirection{0.0f, 0.0f, -1.0f};
   gpu_shared::GpuSky sky{};
   bool lightsChanged = false;  // wakes every probe (vigilant) for vigilantFrames
+  // The lights changed a little (GiSystem decides, ProbeFieldSettings::lightDriftDegrees): no
+  // probe wakes; sleeping probes keep their period and their refresh follows the light.
+  // lightsChanged wins when both are set.
+  bool lightsDrifting = false;
   // No probe passes this frame: the field keeps what it holds (a host's "GI off" that saves the
   // probes' GPU time; the light cache, objects and streaming still update). Unpaused, the field
   // catches up from where it stood, as after a camera jump.
@@ -127,6 +139,7 @@ class ProbeFieldFrameBuilder {
   std::vector<glm::ivec3> gridOrigins_;    // per cascade, in probe spacings (world-absolute)
   std::vector<glm::dvec3> windowWorld_;    // per cascade, min corner in metres
   std::vector<std::uint32_t> pageTables_;  // previous frame
+  bool driftedBefore_ = false;             // the previous frame had kProbeOptionLightsDrifting
 };
 
 }  // namespace sdfstream::probe

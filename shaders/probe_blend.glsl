@@ -21,7 +21,10 @@ struct ProbeBlendTexel {
 ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
   uint g = PROBE_LIST(l);
   ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
-  bool vigilant = probeStateOf(PROBE_DATA(g)) == kProbeVigilant;
+  uint state = probeStateOf(PROBE_DATA(g));
+  bool vigilant = state == kProbeVigilant;
+  bool drifting =
+      (f.options.x & kProbeOptionLightsDrifting) != 0u && state == kProbeSleeping;
   const uint irrCount = kProbeIrradianceInterior * kProbeIrradianceInterior;
   ProbeBlendTexel t;
   t.irradiance = local < irrCount;
@@ -30,7 +33,8 @@ ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
   if (t.irradiance) {
     t.texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
     t.index = probeIrradianceIndex(g, t.texel + uvec2(kProbeBorderTexels));
-    t.h = vigilant ? min(v.blend.x, f.view.w) : v.blend.x;
+    t.h = vigilant ? min(v.blend.x, f.view.w)
+                   : drifting ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
     t.shape = v.blend.w;
   } else {
     uint d = local - irrCount;

@@ -220,7 +220,11 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     inside = false;
     mean = vec3(0.0f);
   } else {
-    float hLast = vigilant > 0u ? min(v.blend.x, f.view.w) : v.blend.x;
+    // The last update's hysteresis (the blend's rule, with last frame's state and options).
+    bool driftLast = (f.options.x & kProbeOptionDriftedBefore) != 0u &&
+                     probeStateOf(oldData) == kProbeSleeping;
+    float hLast = vigilant > 0u ? min(v.blend.x, f.view.w)
+                  : driftLast ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
     if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
       vigilant = f.selection.w & 255u;
       quiet = 0u;
@@ -236,7 +240,8 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       float gap = change / max(1.0f - hLast, 1e-3f);
       // Vigilant updates (low hysteresis) are noisy: only calm updates count towards sleep, so
       // a probe never falls asleep holding the noise of its fast-converging phase.
-      quiet = gap < f.trace.z && hLast == v.blend.x ? quiet + 1u : 0u;
+      // A drifting refresh is calm too: its low hysteresis follows the light, not the noise.
+      quiet = gap < f.trace.z && (hLast == v.blend.x || driftLast) ? quiet + 1u : 0u;
       if (vigilant > 0u) vigilant -= 1u;
       mean = now;
     }

@@ -108,6 +108,10 @@ SDF_CONST uint kProbeOptionObjectsNaive = 1024u;  // every ray against every obj
 SDF_CONST uint kProbeOptionBackfacesBlack = 2048u;  // blend backface rays as black radiance
 SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every corner, not only
                                                    // where Chebyshev is unsure (probe_sample.glsl)
+// The lights changed a little (ProbeFieldSettings::lightDriftDegrees): no probe wakes; a sleeping
+// probe's refresh blends as much as an awake probe would over its sleep period.
+SDF_CONST uint kProbeOptionLightsDrifting = 8192u;
+SDF_CONST uint kProbeOptionDriftedBefore = 16384u;  // ... and so they did in the last frame
 // Bits 16..19: the region cascades listing an object (above every option bit; the mask once
 // shared bit 12 with kProbeOptionSdfEverywhere, which turned SDF visibility on everywhere
 // whenever cascade 0 listed an object).
@@ -158,7 +162,7 @@ static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 144);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
-static_assert(sdfstream::gpu_shared::kProbeOptionSdfEverywhere <
+static_assert(sdfstream::gpu_shared::kProbeOptionDriftedBefore <
               (1u << sdfstream::gpu_shared::kProbeObjectMaskShift));  // no option in the mask
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==

@@ -54,7 +54,9 @@ struct GiHarness {
   void step(const CascadeStackImage& image, probe::ProbeFrameInputs in, std::uint64_t frame,
             bool upload = true) {
     in.sky = sky;
-    const std::vector<std::uint32_t> dirty = lightDirtyPages(previous.get(), image, in.lightsChanged);
+    // A drift is a light change for the light cache (it relights), not for the probes.
+    const std::vector<std::uint32_t> dirty =
+        lightDirtyPages(previous.get(), image, in.lightsChanged || in.lightsDrifting);
     if (runGpu) {
       if (upload) scene->uploadAll(image);
       lightGpu->update(*scene, lights, sky, dirty, image.voxelSize0);
