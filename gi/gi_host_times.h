@@ -8,16 +8,16 @@ namespace sdfstream {
 // what the GPU reads, and recording the passes. Waits for the GPU are not included (update's
 // submit and wait come after).
 struct GiHostTimes {
-  double sceneMs = 0.0;         // page tables and streamed bricks
-  double objectsMs = 0.0;       // instances into stack space, region state, their uploads
-  double objectsBuildMs = 0.0;  // ... of which building them (buildObjectFrame, card slots)
+  double sceneMs = 0.0;             // page tables and streamed bricks
+  double objectsMs = 0.0;           // instances into stack space, region state, their uploads
+  double objectsBuildMs = 0.0;      // ... of which building them (buildObjectFrame, card slots)
   double objectsInstancesMs = 0.0;  // ... ... the instances into stack space
   double objectsWakeMs = 0.0;       // ... ... the changed boxes and the probes' wake bits
   double objectsCardsMs = 0.0;      // ... ... the card light blocks and the relight list
-  double shadowPagesMs = 0.0;   // the light-cache pages the objects' moves shadow
-  double lightMs = 0.0;         // dirty pages, lights, the light cache pass
-  double probesMs = 0.0;        // the probe passes
-  double totalMs = 0.0;         // all of the frame's recording
+  double shadowPagesMs = 0.0;       // the light-cache pages the objects' moves shadow
+  double lightMs = 0.0;             // dirty pages, lights, the light cache pass
+  double probesMs = 0.0;            // the probe passes
+  double totalMs = 0.0;             // all of the frame's recording
 };
 
 }  // namespace sdfstream

@@ -52,8 +52,8 @@ struct GiFrameStats {
   LightRelightStats relight;           // the light cache's queue after this frame's relight
   std::size_t bytesUploaded = 0;       // staging bytes of the frame (bricks, tables, instances)
   GiHostTimes host;
-  probe::ProbeFieldStats probes;       // all zero when the probes were paused
-  bool probesPaused = false;           // ProbeFrameInputs::paused
+  probe::ProbeFieldStats probes;        // all zero when the probes were paused
+  bool probesPaused = false;            // ProbeFrameInputs::paused
   std::vector<gpu::PassTiming> passes;  // every timed pass of the frame, in recording order
 };
 

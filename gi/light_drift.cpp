@@ -22,7 +22,8 @@ bool sameExceptRadianceAndDirection(const SceneLight& a, const SceneLight& b) {
 
 }  // namespace
 
-bool isLightDrift(const SceneLights& before, const SceneLights& now, const LightDriftLimits& limits) {
+bool isLightDrift(const SceneLights& before, const SceneLights& now,
+                  const LightDriftLimits& limits) {
   if (!(limits.degrees > 0.0f) || before.lights.size() != now.lights.size()) return false;
   const float cosLimit = std::cos(glm::radians(limits.degrees));
   for (std::size_t i = 0; i < now.lights.size(); ++i) {

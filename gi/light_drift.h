@@ -16,6 +16,7 @@ struct LightDriftLimits {
 // limits.intensity of before (per channel, relative to the larger), and nothing else changed
 // (a point or spot light that moves is not a drift). Identical lights are a drift too (of zero).
 // limits.degrees <= 0: never a drift.
-bool isLightDrift(const SceneLights& before, const SceneLights& now, const LightDriftLimits& limits);
+bool isLightDrift(const SceneLights& before, const SceneLights& now,
+                  const LightDriftLimits& limits);
 
 }  // namespace sdfstream

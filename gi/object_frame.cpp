@@ -315,9 +315,9 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   // irradiance by wakeIrradianceChange (ObjectSceneSettings).
   instances.changedBounds(library, out.changedBoxes);
   markWakeSubCells(f, cascades, stack, settings, out);
-  out.wakeMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                         instancesDone)
-                   .count();
+  out.wakeMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - instancesDone)
+          .count();
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   f.counts.z = out.listCapacity;

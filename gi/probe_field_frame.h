@@ -60,10 +60,10 @@ struct ProbeFieldSettings {
   // and off on the very same rays (off by default: without a cache, a fresh rotation per frame
   // is the better estimator).
   bool fixedRotationCycle = false;
-  std::uint32_t cacheRotations = 4;    // ray rotations cycled when the cache is on (memory: probes
-                                       // x rays x rotations x 8 bytes)
-  bool states = true;                  // M21 Sec. 5 probe states
-  std::uint32_t sleepPeriod = 8;       // sleeping probes refresh every this many frames
+  std::uint32_t cacheRotations = 4;  // ray rotations cycled when the cache is on (memory: probes
+                                     // x rays x rotations x 8 bytes)
+  bool states = true;                // M21 Sec. 5 probe states
+  std::uint32_t sleepPeriod = 8;     // sleeping probes refresh every this many frames
   // A light change this small is a drift, not a wake (GiSystem): every sun turns by at most
   // this many degrees since the last frame, and every light's and the sky's colour x intensity
   // changes by at most lightDriftIntensity of it, with nothing else changed. A drift wakes no

@@ -319,10 +319,8 @@ TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
   ObjectSceneSettings rows, grid;
   rows.wakeGridFromRows = ~std::uint64_t(0);
   grid.wakeGridFromRows = 0;
-  const ObjectFrameData a =
-      buildObjectFrame(objects.library, objects.instances, stack, rows);
-  const ObjectFrameData b =
-      buildObjectFrame(objects.library, objects.instances, stack, grid);
+  const ObjectFrameData a = buildObjectFrame(objects.library, objects.instances, stack, rows);
+  const ObjectFrameData b = buildObjectFrame(objects.library, objects.instances, stack, grid);
   ASSERT_EQ(a.regions.size(), b.regions.size());
   std::size_t differ = 0, bits = 0;
   for (std::size_t r = 0; r < a.regions.size(); ++r) {
@@ -332,9 +330,10 @@ TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
       bits += std::uint32_t(std::popcount(a.regions[r].wake[w]));
     }
   }
-  std::printf("[figures] %zu changed boxes: %zu wake bits set, %zu words differ, %u vs %u moved "
-              "regions\n",
-              a.changedBoxes.size(), bits, differ, a.movedRegions, b.movedRegions);
+  std::printf(
+      "[figures] %zu changed boxes: %zu wake bits set, %zu words differ, %u vs %u moved "
+      "regions\n",
+      a.changedBoxes.size(), bits, differ, a.movedRegions, b.movedRegions);
   EXPECT_GT(a.changedBoxes.size(), 1500u);
   EXPECT_GT(bits, 10000u);
   EXPECT_LT(bits, a.regions.size() * 512);  // not everything: the far cascades' edges stay asleep

@@ -71,8 +71,9 @@ struct SweepResult {
   std::vector<bool> live;
 };
 
-// 70 frames under the first sun (the field settles: vigilant for 32, then asleep where quiet), then `frames` frames turning it `step` degrees a frame, each a
-// light change (drift = false) or a drift.
+// 70 frames under the first sun (the field settles: vigilant for 32, then asleep where quiet), then
+// `frames` frames turning it `step` degrees a frame, each a light change (drift = false) or a
+// drift.
 SweepResult sweep(gpu::Context& ctx, const test::AnalyticStack& scene, bool drift, int frames,
                   float step) {
   const CascadeStackImage& img = scene.image;
@@ -144,7 +145,7 @@ TEST_F(ProbeLightDriftTest, AMovingSunAsADriftUpdatesFewProbesAndEndsAsClose) {
       "updated a frame %.1f as light changes, %.1f as a drift; mean relative difference to the "
       "field converged under the final sun: %.3f woken, %.3f drifting (before the turn: %.3f)\n",
       kStep, kFrames, woken.updatedPerFrame, drifted.updatedPerFrame, errWoken, errDrifted, moved);
-  EXPECT_GT(moved, 0.08);  // the turn matters
+  EXPECT_GT(moved, 0.08);                                           // the turn matters
   EXPECT_LT(drifted.updatedPerFrame, 0.6 * woken.updatedPerFrame);  // fewer at a slower pace
   EXPECT_LT(errDrifted, errWoken + 0.02);
   EXPECT_LT(errDrifted, 0.5 * moved);
@@ -162,7 +163,8 @@ TEST_F(ProbeLightDriftTest, GpuMatchesCpuThroughDriftingFrames) {
   in.cameraWorld = glm::dvec3(64.0, 50.0, 64.0);
   std::uint32_t sleeping = 0, drifting = 0;
   for (std::uint64_t frame = 0; frame < 48; ++frame) {
-    h.lights = test::sunLights(scene.image, sunAt(frame < 24 ? 0.0f : 0.5f * float(frame - 23)), 3.0f);
+    h.lights =
+        test::sunLights(scene.image, sunAt(frame < 24 ? 0.0f : 0.5f * float(frame - 23)), 3.0f);
     in.lightsChanged = frame == 0;
     in.lightsDrifting = frame >= 24;
     h.step(scene.image, in, frame, frame == 0);
@@ -171,13 +173,14 @@ TEST_F(ProbeLightDriftTest, GpuMatchesCpuThroughDriftingFrames) {
       drifting += in.lightsDrifting ? 1 : 0;
     }
   }
-  const float irr =
-      test::worstRelative<glm::vec4, 4>(h.cpuField->irradiance(), h.gpuField->downloadIrradiance(), 1e-3f);
-  const float data =
-      test::worstRelative<glm::vec4, 4>(h.cpuField->probeData(), h.gpuField->downloadProbeData(), 1e-3f);
-  std::printf("[figures] %u drifting frames, up to %u probes asleep: GPU vs CPU max rel diff "
-              "irradiance %.2e, probe data %.2e\n",
-              drifting, sleeping, irr, data);
+  const float irr = test::worstRelative<glm::vec4, 4>(h.cpuField->irradiance(),
+                                                      h.gpuField->downloadIrradiance(), 1e-3f);
+  const float data = test::worstRelative<glm::vec4, 4>(h.cpuField->probeData(),
+                                                       h.gpuField->downloadProbeData(), 1e-3f);
+  std::printf(
+      "[figures] %u drifting frames, up to %u probes asleep: GPU vs CPU max rel diff "
+      "irradiance %.2e, probe data %.2e\n",
+      drifting, sleeping, irr, data);
   EXPECT_GT(sleeping, 0u);  // the drift's own rules ran
   EXPECT_LE(irr, 1e-2f);
   EXPECT_LE(data, 1e-5f);
