@@ -290,8 +290,8 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   EXPECT_EQ(falseWakes, 0u);
 }
 
-// Thousands of changes of every size (0.05-4 m, some far outside cascade 0, some spanning the
-// whole grid) through both ways of marking: the grid of counts that many changes take and the
+// Thousands of changes of every size (0.05-4 m; a tenth spread over 240 m, far outside cascade
+// 0) through both ways of marking: the grid of counts that many changes take and the
 // rows that few take (checked against brute force above) set the same bits in every cascade.
 TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
   const CascadeStackImage stack = test::windowsOnlyStack(4);
