@@ -65,7 +65,7 @@ class PackGround {
 
 struct FlyObjectsSettings {
   std::uint32_t count = 150;
-  double sBegin = 0.0, sEnd = 0.0;  // stretch of the path (arc length, metres) they spread over
+  double sBegin = 0.0, sEnd = 0.0;      // stretch of the path (arc length, metres) they spread over
   double minSize = 1.0, maxSize = 4.0;  // longest edge / diameter, metres
   // Every largeEvery-th object is largeMin..largeMax metres instead: cascade 0's probes are 8 m
   // apart on a 1 m-voxel world, and irradiance probes blur anything smaller than their spacing,
@@ -73,7 +73,7 @@ struct FlyObjectsSettings {
   // ones cast direct shadows; their indirect shadows are a few percent).
   std::uint32_t largeEvery = 6;  // 0: none
   double largeMin = 8.0, largeMax = 14.0;
-  double maxSide = 25.0;                // largest distance from the path, metres (horizontal)
+  double maxSide = 25.0;  // largest distance from the path, metres (horizontal)
   std::uint64_t seed = 7;
 };
 
@@ -82,8 +82,9 @@ struct FlyObjectsSettings {
 // flying the path sees them ahead and below; a few large, see largeEvery): boxes and spheres in
 // four bright colours, a third
 // each orbiting a hover point 0.5-3 m above the ground, falling onto the ground again and again,
-// and driving a rectangular loop on it. Positions whose ground is unknown (no brick) are
-// skipped, so fewer objects may result. Instances start at their pose for t = 0.
+// and driving a rectangular loop on it. Where the ground is unknown (no brick) an object moves
+// closer to the path (half the side distance at a time, down to 1 m) and is skipped only if the
+// ground stays unknown, so fewer objects may result. Instances start at their pose for t = 0.
 std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
                                         const FlyObjectsSettings& settings);
 
