@@ -85,9 +85,6 @@ uint probeCacheCascade(uvec2 e) {
   return (e.y >> 2u) & 7u;
 }
 
-// Probe history (uvec4): xyz mean irradiance at the last check (float bits); w packs
-// quiet updates (bits 0..7), vigilant frames left (8..15), frames since last update (16..30),
-// and bit 31: more than a quarter of its last rays hit backfaces (it sits inside geometry).
 // The hysteresis of a sleeping probe's refresh while the lights drift: as much of the fresh
 // estimate as an awake probe takes over the sleep period ((1 - h) x period), but never more than
 // a vigilant update takes. The field then follows a slowly moving sun at the awake rate without
@@ -96,6 +93,9 @@ float probeDriftHysteresis(ProbeFrame f, float h) {
   return max(f.view.w, 1.0f - (1.0f - h) * float(max(f.options.z, 1u)));
 }
 
+// Probe history (uvec4): xyz mean irradiance at the last check (float bits); w packs
+// quiet updates (bits 0..7), vigilant frames left (8..15), frames since last update (16..30),
+// and bit 31: more than a quarter of its last rays hit backfaces (it sits inside geometry).
 uint probeHistoryQuiet(uvec4 h) { return h.w & 255u; }
 uint probeHistoryVigilant(uvec4 h) { return (h.w >> 8u) & 255u; }
 uint probeHistoryAge(uvec4 h) { return (h.w >> 16u) & 32767u; }
