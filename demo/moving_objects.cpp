@@ -130,10 +130,10 @@ std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
     forward = glm::length(forward) > 1e-9 ? glm::normalize(forward) : glm::dvec3(1, 0, 0);
     const glm::dvec3 across(-forward.z, 0.0, forward.x);
     // Where the ground is unknown (past a small world's edge) the object moves closer to the
-    // path, halving its side distance down to 1 m, before it is skipped.
+    // path, halving its side distance down to the 2 m minimum, before it is skipped.
     glm::dvec3 at = path.position(s) + across * side;
     std::optional<double> floor = ground.heightAt(at.x, at.z);
-    for (double nearer = side * 0.5; !floor && std::abs(nearer) >= 1.0; nearer *= 0.5) {
+    for (double nearer = side * 0.5; !floor && std::abs(nearer) >= 2.0; nearer *= 0.5) {
       at = path.position(s) + across * nearer;
       floor = ground.heightAt(at.x, at.z);
     }

@@ -83,7 +83,7 @@ struct FlyObjectsSettings {
 // four bright colours, a third
 // each orbiting a hover point 0.5-3 m above the ground, falling onto the ground again and again,
 // and driving a rectangular loop on it. Where the ground is unknown (no brick) an object moves
-// closer to the path (half the side distance at a time, down to 1 m) and is skipped only if the
+// closer to the path (half the side distance at a time, not nearer than 2 m) and is skipped if the
 // ground stays unknown, so fewer objects may result. Instances start at their pose for t = 0.
 std::unique_ptr<DemoObjects> flyObjects(PackGround& ground, const FlyPath& path,
                                         const FlyObjectsSettings& settings);
