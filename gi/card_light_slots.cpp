@@ -28,10 +28,6 @@ std::uint32_t levelAt(float distance, float beyond, int current) {
 }
 }  // namespace
 
-void CardLightSlots::release(const Block& block) {
-  free_[block.mesh * kLevels + block.level].push_back(block.base);
-}
-
 CardLightSlots::Block* CardLightSlots::find(std::uint32_t id) {
   return id < blocks_.size() && blocks_[id].mesh != kNoBlock ? &blocks_[id] : nullptr;
 }
@@ -45,8 +41,10 @@ CardLightSlots::Block& CardLightSlots::insert(std::uint32_t id, const Block& blo
   return b;
 }
 
-void CardLightSlots::erase(std::uint32_t id) {
-  const std::uint32_t at = blocks_[id].liveIndex;
+void CardLightSlots::release(std::uint32_t id) {
+  const Block& block = blocks_[id];
+  free_[block.mesh * kLevels + block.level].push_back(block.base);
+  const std::uint32_t at = block.liveIndex;
   blocks_[live_.back()].liveIndex = at;
   live_[at] = live_.back();
   live_.pop_back();
@@ -99,16 +97,14 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     const int current = sameMesh ? int(block->level) : -1;
     level[i] = levelAt(distance[i], levels.beyond, current);
     if (current >= 0 && std::uint32_t(current) != level[i]) {
-      release(*block);
-      erase(inst.info.z);
+      release(inst.info.z);
       ++stats_.relevelled;
     }
   }
   for (std::size_t k = 0; k < live_.size();) {
     const std::uint32_t id = live_[k];
     if (blocks_[id].seenFrame != frame_) {
-      release(blocks_[id]);
-      erase(id);  // the last live id moves to k: look at k again
+      release(id);  // the last live id moves to k: look at k again
     } else {
       ++k;
     }
@@ -137,10 +133,8 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     }
     for (std::uint32_t i = 0; i < instances.size(); ++i) {
       if (kept[i]) continue;
-      Block* block = find(instances[i].info.z);
-      if (!block) continue;
-      release(*block);
-      erase(instances[i].info.z);
+      if (!find(instances[i].info.z)) continue;
+      release(instances[i].info.z);
       ++stats_.evicted;
     }
   }

@@ -89,10 +89,10 @@ class CardLightSlots {
   std::vector<std::uint32_t> live_;
   Block* find(std::uint32_t id);
   Block& insert(std::uint32_t id, const Block& block);
-  void erase(std::uint32_t id);
+  // The id's block goes back to its (mesh, level) free list and the id holds none.
+  void release(std::uint32_t id);
   // Per mesh and level (mesh * kCardLightLevels + level): bases of freed blocks.
   std::vector<std::vector<std::uint32_t>> free_;
-  void release(const Block& block);
   // Per-frame scratch, kept so that its capacity is reused (at 100,000 instances fresh vectors
   // were megabytes of new pages every frame).
   struct Candidate {

@@ -89,6 +89,7 @@ struct ObjectFrameData {
   // coordinates 0..63, lo.x > hi.x when it misses the cascade). Kept to reuse its capacity.
   struct SubCellRange {
     glm::ivec3 lo, hi;
+    bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
   };
   std::vector<SubCellRange> wakeRanges;
   std::vector<std::vector<std::int32_t>> wakeGrids;  // scratch: per cascade, 64^3 counts

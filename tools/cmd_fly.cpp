@@ -14,8 +14,8 @@ int runFly(int argc, char** argv) {
   Args args(argc, argv, 2,
             renderValueOptions({"-o", "--path", "--speed", "--frames", "--width", "--height",
                                 "--image-every", "--cascades", "--atlas-mib", "--upload-mib",
-                                "--device", "--loader-threads", "--objects", "--sun-orbit", "--sun-sweep",
-                                "--metrics-every"}),
+                                "--device", "--loader-threads", "--objects", "--sun-orbit",
+                                "--sun-sweep", "--metrics-every"}),
             {"--help", "-h", "--cpu", "--no-pacing", "--layers", "--loop"});
   if (args.has("--help") || args.has("-h")) {
     std::printf(
@@ -35,7 +35,8 @@ int runFly(int argc, char** argv) {
         "                     its end)\n"
         "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees per frame (a\n"
         "                     moving sun: every frame is a light change; the light cache\n"
-        "                     relights within --relight-pages, the longest out of date first)\n"
+        "                     relights within --relight-pages, the longest out of date first;\n"
+        "                     up to 1 degree a frame is a drift that wakes no probe)\n"
         "  --sun-sweep E0:E1  day to dusk: move the sun from E0 to E1 degrees of elevation over\n"
         "                     the run (azimuth kept), reddening and dimming it and the sky as\n"
         "                     it sets (demo/time_of_day.h); e.g. 35:3\n"
@@ -85,7 +86,8 @@ int runFly(int argc, char** argv) {
         !(e0 <= 90.0) || !(e1 >= -10.0) || !(e1 <= 90.0))
       throw InputError(InputErrorKind::Usage, "command line",
                        "--sun-sweep expects E0:E1, two elevations in degrees within [-10, 90], "
-                       "got '" + *sweep + "'");
+                       "got '" +
+                           *sweep + "'");
     o.sunSweep = glm::dvec2(e0, e1);
   }
   o.metricsEvery = args.integer("--metrics-every", 1, 1, 1 << 30);
