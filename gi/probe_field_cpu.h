@@ -7,6 +7,7 @@
 // Not thread-safe; update() itself runs in parallel (TBB). Memory: see probeFieldBytes().
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -72,6 +73,11 @@ class ProbeFieldCpu {
   std::span<const glm::vec4> probeData() const { return data_; }
   std::span<const glm::uvec2> hitCache() const { return cache_; }
   const ProbeFieldFrame& lastFrame() const { return frame_; }
+  // The global probes the last update traced and blended, in list order.
+  std::span<const std::uint32_t> lastUpdateList() const {
+    return std::span<const std::uint32_t>(list_).first(
+        std::min<std::size_t>(stats_.probesUpdated, list_.size()));
+  }
 
  private:
   ProbeFieldSettings settings_;

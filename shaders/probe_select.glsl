@@ -46,20 +46,35 @@ uint probeSelectClass(ProbeFrame f, uint g) {
 
 // Which probes of the wanted ones fit this frame's list, from the counts of the count sub-pass
 // (every invocation computes the same): x = the first class that does not fit whole
-// (kProbeClassCount: all fit); y = the stride k of that class -- its probes with
-// (g + frame) % k == 0 are taken, about as many as the room left (0: no room).
+// (kProbeClassCount: all fit); y = the share of that class taken, in units of 1/65536 (0: no
+// room). The share aims at the room left less 1/32 of the list, which the spread of the taken
+// count around its mean (a few probes) stays inside, so the list does not overflow and the
+// probes taken do not depend on thread order. Integer arithmetic only: the CPU reference takes
+// the same probes.
 uvec2 probeSelectCutoff(ProbeFrame f) {
   uint total = 0u;
   for (uint cls = 0u; cls < kProbeClassCount; ++cls) {
     uint count = PROBE_STAT(kProbeStatClassCounts + cls);
     if (total + count > f.selection.y) {
-      uint room = f.selection.y - total;
-      uint stride = room == 0u ? 0u : (count + room - 1u) / room;
-      return uvec2(cls, stride);
+      uint aim = f.selection.y - f.selection.y / 32u;
+      uint room = aim > total ? aim - total : 0u;  // < count
+      uint shift = 0u;                             // (room >> shift) << 16 must fit in 32 bits
+      while ((count >> shift) >= 65536u) shift += 1u;
+      return uvec2(cls, ((room >> shift) << 16u) / max(count >> shift, 1u));
     }
     total += count;
   }
   return uvec2(kProbeClassCount, 0u);
+}
+
+// Whether probe g of the cutoff class is taken this frame, given the class's share (1/65536
+// units): the point of g + frame in the golden-ratio (Weyl) sequence, below the share. Points of
+// consecutive probes spread evenly over [0, 1), so about share x count of the class are taken
+// however its probes lie in the field (a stride of ceil(count / room) took as few as half the
+// room); and a probe's points in consecutive frames lie 0.618 apart, so at a share of 0.9 none
+// is passed over twice in a row (one passed over 32 frames moves to class 0 anyway).
+bool probeTakenInCutoffClass(uint g, uint frame, uint share) {
+  return (((g + frame) * 0x9E3779B9u) >> 16u) < share;
 }
 
 // Group counts (x, y, 1) of a pass over `threads` invocations of 64, spread over rows of 16384
@@ -91,10 +106,10 @@ void probeSelectPass(ProbeFrame f, uint g, uint mode) {
   }
   uvec2 cutoff = probeSelectCutoff(f);
   if (cls > cutoff.x) return;
-  if (cls == cutoff.x && (cutoff.y == 0u || (f.options.y + g) % cutoff.y != 0u)) return;
+  if (cls == cutoff.x && !probeTakenInCutoffClass(g, f.options.y, cutoff.y)) return;
   uint index = PROBE_STAT_ADD(kProbeStatListCount, 1u);
-  // The stride can overshoot the room by a few probes: the list stays bounded, and those few
-  // (the only thread-order-dependent choice) wait for the next frame.
+  // Should the share overshoot even the list's slack, the list stays bounded, and the probes past
+  // it (the only thread-order-dependent choice) wait for the next frame.
   if (index >= f.selection.y) return;
   PROBE_LIST(index) = g;
   uvec4 h = PROBE_HISTORY(g);
