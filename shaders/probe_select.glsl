@@ -47,10 +47,10 @@ uint probeSelectClass(ProbeFrame f, uint g) {
 // Which probes of the wanted ones fit this frame's list, from the counts of the count sub-pass
 // (every invocation computes the same): x = the first class that does not fit whole
 // (kProbeClassCount: all fit); y = the share of that class taken, in units of 1/65536 (0: no
-// room). The share aims at the room left less 1/32 of the list, which the spread of the taken
-// count around its mean (a few probes) stays inside, so the list does not overflow and the
-// probes taken do not depend on thread order. Integer arithmetic only: the CPU reference takes
-// the same probes.
+// room). The share aims at the room left less 1/32 of the list: the taken count spreads a few
+// probes around its mean, within that slack in every case measured, so the list does not
+// overflow and the probes taken do not depend on thread order (the emit pass's bound catches
+// the rest). Integer arithmetic only: the CPU reference takes the same probes.
 uvec2 probeSelectCutoff(ProbeFrame f) {
   uint total = 0u;
   for (uint cls = 0u; cls < kProbeClassCount; ++cls) {
