@@ -1,5 +1,7 @@
 #include "bench/bench_gi_configs.h"
 
+#include <utility>
+
 namespace sdfstream::bench {
 
 using probe::ProbeFieldSettings;
@@ -27,6 +29,17 @@ ProbeFieldSettings plainDdgi() {
   s.vigilantFrames = 8;  // the peer as first measured (our default now stays vigilant longer)
   return s;
 }
+
+namespace {
+
+// The probe update's ray budget at half and twice the default: what the vigilant frames (every
+// live probe wants an update; the budget decides how many get one) cost and buy.
+std::vector<std::pair<std::string, std::uint32_t>> rayBudgetSweep() {
+  const std::uint32_t def = ProbeFieldSettings{}.rayBudget;
+  return {{"ray-budget-half", def / 2}, {"ray-budget-double", def * 2}};
+}
+
+}  // namespace
 
 std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
   std::vector<GiConfig> out;
@@ -111,6 +124,12 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
       for (GiConfig& c : out)
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
   }
+  if (!quick)
+    for (const auto& [name, budget] : rayBudgetSweep()) {
+      ProbeFieldSettings s = def;
+      s.rayBudget = budget;
+      add(name, "ours", std::to_string(budget) + " rays a frame", s, cascades, true);
+    }
   if (!quick) {
     ProbeFieldSettings s = def;
     s.spacingBricks = 2;
@@ -134,12 +153,19 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
   const ProbeFieldSettings def;
   ProbeFieldSettings everywhere = def;
   everywhere.sdfVisibilityWhereUnsure = false;
-  return {
+  std::vector<GiConfig> out = {
       {"sdfddgi-probe-count", "ours", "2 cascades x 17³ = 9,826 probes", def, 2, false, "default"},
       {"default", "ours", "", def, scene.defaultCascades, false, ""},
       {"vis-sdf-everywhere", "ours", "the SDF test at every cage corner", everywhere,
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
+  for (const auto& [name, budget] : rayBudgetSweep()) {
+    ProbeFieldSettings s = def;
+    s.rayBudget = budget;
+    out.push_back({name, "ours", std::to_string(budget) + " rays a frame", s,
+                   scene.defaultCascades, false, "default"});
+  }
+  return out;
 }
 
 }  // namespace sdfstream::bench

@@ -31,7 +31,7 @@ constexpr std::uint32_t kRelightBudgetOfDevice = 0;
 // reference has no probes and no light cache):
 //  - probe rays: on a CPU Vulkan device (lavapipe) a full probe update of six cascades takes
 //    ~16 s a frame, so 65536 rays keep a fly-through to about a second a frame there (updates
-//    rotate through the probes, nearest and in view first); 2^21 on a real GPU;
+//    rotate through the probes, nearest and in view first); kDefaultProbeRayBudget on a GPU;
 //  - light-cache pages relit per frame: a sun that moves every frame relights every resident page
 //    (4,000-8,000 in a fly-through) each frame without a budget, 2.6 s a frame on lavapipe; 64
 //    pages there, 256 on a GPU (0.23 ms a frame for Sponza on an H200, every page relit within
@@ -40,7 +40,7 @@ constexpr std::uint32_t kRelightBudgetOfDevice = 0;
 inline void resolveDeviceBudgets(GiSettings& settings, const gpu::Context* context) {
   const bool software = context && context->isSoftware();
   if (settings.probes.rayBudget == kProbeBudgetOfDevice)
-    settings.probes.rayBudget = software ? 1u << 16 : 1u << 21;
+    settings.probes.rayBudget = software ? 1u << 16 : probe::kDefaultProbeRayBudget;
   if (settings.light.relightPageBudget == kRelightBudgetOfDevice)
     settings.light.relightPageBudget = software ? 64u : 256u;
 }

@@ -68,7 +68,8 @@ constexpr const char* kHelp =
     "  --query-offset V  GI queries sit V LOD-0 voxels off the reference's points along the\n"
     "                 normal (default 0.5: on the SDF surface of an open sheet)\n"
     "  --gpu-table    only the per-pass time table of scripts/bench-gpu (SDFDDGI's probe count,\n"
-    "                 our default, plain DDGI) on the given scenes; writes DIR/gpu-table.md\n"
+    "                 our default, plain DDGI, the default at half and twice its ray budget)\n"
+    "                 on the given scenes; writes DIR/gpu-table.md\n"
     "  --rounds N     with --gpu-table: run the configurations N times in turn and keep each\n"
     "                 one's fastest round (a GPU's clocks can change within a run; default 1)\n";
 

@@ -113,7 +113,7 @@ const char* kHelp =
     "  --area-height M    height of that area above the surface below the camera (default 16\n"
     "                     cascade-0 voxels: one macro region of cascade 0)\n"
     "  --probe-rays N     rays per probe (default 128)\n"
-    "  --probe-budget N   probe rays per frame, all cascades (default 2097152; on a CPU Vulkan\n"
+    "  --probe-budget N   probe rays per frame, all cascades (default 1048576; on a CPU Vulkan\n"
     "                     device 65536)\n"
     "  --sun dx,dy,dz,E --sky r,g,b[,r,g,b]   lights, as for render (same defaults)\n"
     "  --device NAME      Vulkan device (index or name substring; default the best one)\n"

@@ -54,7 +54,7 @@ const char* const kRenderHelp =
     "  --gi on|off                       global illumination from the probe field (default on;\n"
     "                                    off: direct light only; --cpu implies off)\n"
     "  --probe-rays N                    rays per probe per GI frame (default 128)\n"
-    "  --probe-budget N                  probe rays per GI frame, all cascades (default 2097152;\n"
+    "  --probe-budget N                  probe rays per GI frame, all cascades (default 1048576;\n"
     "                                    fly on a CPU Vulkan device: 65536); probes beyond it\n"
     "                                    wait for later frames, nearest and in view first\n"
     "  --relight-pages N|all             light-cache pages relit per frame at most: new bricks\n"

@@ -24,7 +24,7 @@ extern const char* const kStillGiFramesHelp;
 // --gi-frames, --probe-budget and --relight-pages (kProbeBudgetOfDevice, kRelightBudgetOfDevice:
 // chosen by device once it is open).
 RenderOptions renderOptionsFromArgs(const Args& args, bool cpu, int defaultGiFrames,
-                                    std::uint32_t defaultProbeBudget = 1u << 21,
+                                    std::uint32_t defaultProbeBudget = probe::kDefaultProbeRayBudget,
                                     std::uint32_t defaultRelightBudget = kRelightEveryPage);
 
 // --mesh FILE and --primary raster|sdf (render, view; add both to the command's value options):
