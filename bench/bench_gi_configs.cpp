@@ -32,11 +32,19 @@ ProbeFieldSettings plainDdgi() {
 
 namespace {
 
-// The probe update's ray budget at half and twice the default: what the vigilant frames (every
-// live probe wants an update; the budget decides how many get one) cost and buy.
-std::vector<std::pair<std::string, std::uint32_t>> rayBudgetSweep() {
+// The default at half and twice its probe ray budget: what the vigilant frames (every live probe
+// wants an update; the budget decides how many get one) cost and buy.
+std::vector<GiConfig> rayBudgetConfigs(int cascades, bool converge) {
+  std::vector<GiConfig> out;
   const std::uint32_t def = ProbeFieldSettings{}.rayBudget;
-  return {{"ray-budget-half", def / 2}, {"ray-budget-double", def * 2}};
+  for (const auto& [name, budget] : {std::pair{"ray-budget-half", def / 2},
+                                     std::pair{"ray-budget-double", def * 2}}) {
+    ProbeFieldSettings s;
+    s.rayBudget = budget;
+    out.push_back(
+        {name, "ours", std::to_string(budget) + " rays a frame", s, cascades, converge, "default"});
+  }
+  return out;
 }
 
 }  // namespace
@@ -125,11 +133,7 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
   }
   if (!quick)
-    for (const auto& [name, budget] : rayBudgetSweep()) {
-      ProbeFieldSettings s = def;
-      s.rayBudget = budget;
-      add(name, "ours", std::to_string(budget) + " rays a frame", s, cascades, true);
-    }
+    for (GiConfig& c : rayBudgetConfigs(cascades, true)) out.push_back(std::move(c));
   if (!quick) {
     ProbeFieldSettings s = def;
     s.spacingBricks = 2;
@@ -159,12 +163,7 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
       {"vis-sdf-everywhere", "ours", "the SDF test at every cage corner", everywhere,
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
-  for (const auto& [name, budget] : rayBudgetSweep()) {
-    ProbeFieldSettings s = def;
-    s.rayBudget = budget;
-    out.push_back({name, "ours", std::to_string(budget) + " rays a frame", s,
-                   scene.defaultCascades, false, "default"});
-  }
+  for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   return out;
 }
 
