@@ -37,8 +37,8 @@ namespace {
 std::vector<GiConfig> rayBudgetConfigs(int cascades, bool converge) {
   std::vector<GiConfig> out;
   const std::uint32_t def = ProbeFieldSettings{}.rayBudget;
-  for (const auto& [name, budget] : {std::pair{"ray-budget-half", def / 2},
-                                     std::pair{"ray-budget-double", def * 2}}) {
+  for (const auto& [name, budget] :
+       {std::pair{"ray-budget-half", def / 2}, std::pair{"ray-budget-double", def * 2}}) {
     ProbeFieldSettings s;
     s.rayBudget = budget;
     out.push_back(
@@ -104,6 +104,10 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     s.sdfVisibilityWhereUnsure = false;
     add(prefix + "vis-sdf-everywhere", "ours", "Chebyshev + the SDF test at every cage corner", s,
         cascades, !quick);
+    s = base;
+    s.shareSdfTests = false;
+    add(prefix + "sdf-per-query", "ours", "each query traces its own SDF tests (no sharing)", s,
+        cascades, !quick);
     // M21's perceptual encoding blends irradiance^(1/5): for estimates that vary from frame to
     // frame (a few rays seeing a bright patch) that mean is far below the mean of the values.
     s = base;
@@ -157,10 +161,14 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
   const ProbeFieldSettings def;
   ProbeFieldSettings everywhere = def;
   everywhere.sdfVisibilityWhereUnsure = false;
+  ProbeFieldSettings perQuery = def;
+  perQuery.shareSdfTests = false;
   std::vector<GiConfig> out = {
       {"sdfddgi-probe-count", "ours", "2 cascades x 17³ = 9,826 probes", def, 2, false, "default"},
       {"default", "ours", "", def, scene.defaultCascades, false, ""},
       {"vis-sdf-everywhere", "ours", "the SDF test at every cage corner", everywhere,
+       scene.defaultCascades, false, "default"},
+      {"sdf-per-query", "ours", "each query traces its own SDF tests (no sharing)", perQuery,
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));

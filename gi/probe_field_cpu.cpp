@@ -1,11 +1,14 @@
 #include "gi/probe_field_cpu.h"
 
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cassert>
 
 #include <tbb/parallel_for.h>
 
 #include <glm/gtc/packing.hpp>
+#include <glm/integer.hpp>
 
 #include "shaders/shared/color_codec.h"
 #include "shaders/shared/sdf_layout.h"
@@ -197,8 +200,9 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   stats_ = decodeStats(rawStats_);
 }
 
-std::vector<glm::vec3> ProbeFieldCpu::sample(
-    const CascadeStackImage& stack, std::span<const gpu_shared::ProbeQuery> queries) const {
+std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
+                                             std::span<const gpu_shared::ProbeQuery> queries,
+                                             SampleTraces traces, SampleCounts* counts) const {
   field_detail::FieldPasses base(stack);
   base.volumes = frame_.volumes.data();
   // Sampling only reads; the pointers are non-const because the pass structs also write.
@@ -206,13 +210,73 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(
   base.depth = const_cast<glm::vec2*>(depth_.data());
   base.probeData = const_cast<glm::vec4*>(data_.data());
   std::vector<glm::vec3> out(queries.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64), [&](auto r) {
+  std::atomic<std::uint64_t> cages = 0, sharedCages = 0, traced = 0, own = 0, steps = 0;
+  if (traces == SampleTraces::AsSettings)
+    traces = settings_.shareSdfTests ? SampleTraces::GroupsShareTraces : SampleTraces::PerQuery;
+  if (traces == SampleTraces::PerQuery) {
+    if (counts) *counts = {};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64), [&](auto r) {
+      auto local = base;
+      for (std::size_t i = r.begin(); i < r.end(); ++i)
+        out[i] = local.probeFieldIrradiance(
+            frame_.constants, glm::vec3(queries[i].position), glm::vec3(queries[i].normal),
+            glm::vec3(queries[i].view), true, int(queries[i].position.w) - 1);
+    });
+    return out;
+  }
+  // probe_sample.comp: groups of kProbeSampleShareLanes consecutive queries share the SDF tests
+  // of a cage they all plan (probeGroupSharesCage), each lane tracing its share of the union
+  // towards its own receiver.
+  constexpr std::size_t kLanes = gpu_shared::kProbeSampleShareLanes;
+  const std::size_t groups = (queries.size() + kLanes - 1) / kLanes;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 16), [&](auto r) {
     auto local = base;
-    for (std::size_t i = r.begin(); i < r.end(); ++i)
-      out[i] = local.probeFieldIrradiance(frame_.constants, glm::vec3(queries[i].position),
-                                          glm::vec3(queries[i].normal), glm::vec3(queries[i].view),
-                                          true, int(queries[i].position.w) - 1);
+    const gpu_shared::ProbeFrame& f = frame_.constants;
+    for (std::size_t group = r.begin(); group < r.end(); ++group) {
+      const std::size_t first = group * kLanes;
+      const std::size_t lanes = std::min(kLanes, queries.size() - first);
+      std::array<field_detail::FieldPasses::ProbeFieldPlan, kLanes> plans{};
+      for (std::size_t l = 0; l < lanes; ++l) {
+        const gpu_shared::ProbeQuery& q = queries[first + l];
+        plans[l] = local.probeFieldPlan(f, glm::vec3(q.position), glm::vec3(q.normal),
+                                        glm::vec3(q.view), int(q.position.w) - 1);
+      }
+      std::array<std::array<std::uint32_t, 2>, kLanes> visible{};
+      for (std::uint32_t i = 0; i < 2; ++i) {
+        bool shares = lanes == kLanes;
+        for (std::size_t l = 0; l < kLanes && shares; ++l)
+          shares = i < plans[l].count &&
+                   (l == 0 || local.probeGroupSharesCage(plans[0].cage[i], plans[l].cage[i]));
+        std::uint32_t all = 0;
+        if (shares)
+          for (std::size_t l = 0; l < kLanes; ++l) all |= plans[l].cage[i].traceMask;
+        std::uint32_t any = 0;
+        for (std::size_t l = 0; l < lanes; ++l) {
+          if (i >= plans[l].count) continue;
+          const auto& cage = plans[l].cage[i];
+          const std::uint32_t corners =
+              shares ? local.probeGroupLaneCorners(all, std::uint32_t(l)) : cage.traceMask;
+          const std::uint32_t answer = local.probeCageTrace(f, cage, corners, cage.biased);
+          visible[l][i] = answer & 0xffu;
+          any |= visible[l][i];
+          cages += 1;
+          sharedCages += shares ? 1 : 0;
+          traced += std::uint64_t(std::popcount(corners));
+          own += std::uint64_t(std::popcount(cage.traceMask));
+          steps += answer >> 8;
+        }
+        if (shares)
+          for (std::size_t l = 0; l < kLanes; ++l) visible[l][i] = any;
+      }
+      for (std::size_t l = 0; l < lanes; ++l) {
+        const gpu_shared::ProbeQuery& q = queries[first + l];
+        out[first + l] =
+            local.probeFieldFinish(f, plans[l], glm::vec3(q.position), glm::vec3(q.normal),
+                                   glm::vec3(q.view), visible[l][0], visible[l][1]);
+      }
+    }
   });
+  if (counts) *counts = {cages.load(), sharedCages.load(), traced.load(), own.load(), steps.load()};
   return out;
 }
 

@@ -54,9 +54,21 @@ class ProbeFieldCpu {
               const ProbeFrameInputs& inputs, std::uint64_t frame);
   void reset();
 
-  // irradiance(x, n, view) of the current probes (probeFieldIrradiance), parallel over queries.
+  // irradiance(x, n, view) of the current probes, parallel over queries. GroupsShareTraces is
+  // probe_sample.comp's rule (kProbeSampleShareLanes consecutive queries in the same cage split
+  // its SDF tests, probeGroupSharesCage); PerQuery traces every query's own tests
+  // (probeFieldIrradiance, what an engine's shader computes per pixel). `counts` (GroupsShareTraces
+  // only), when given, receives how many cages were sampled, how many of them a group shared, how
+  // many SDF tests were traced, how many tracing every query's own would have taken, and the traced
+  // tests' steps. AsSettings: as ProbeFieldSettings::shareSdfTests says.
+  enum class SampleTraces { AsSettings, GroupsShareTraces, PerQuery };
+  struct SampleCounts {
+    std::uint64_t cages = 0, sharedCages = 0, traces = 0, ownTests = 0, steps = 0;
+  };
   std::vector<glm::vec3> sample(const CascadeStackImage& stack,
-                                std::span<const gpu_shared::ProbeQuery> queries) const;
+                                std::span<const gpu_shared::ProbeQuery> queries,
+                                SampleTraces traces = SampleTraces::AsSettings,
+                                SampleCounts* counts = nullptr) const;
 
   // Ray `ray` of hit-cache rotation slot `slot` of global probe g, traced afresh against `stack`
   // from the probe's current position with the last frame's constants (tests compare it with

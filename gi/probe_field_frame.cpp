@@ -115,6 +115,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.visibility == ProbeFieldSettings::Visibility::Sdf)
     options |= gpu_shared::kProbeOptionNoChebyshev;
   if (!s.sdfVisibilityWhereUnsure) options |= gpu_shared::kProbeOptionSdfEverywhere;
+  if (!s.shareSdfTests) options |= gpu_shared::kProbeOptionSdfPerQuery;
   if (in.lightsChanged) options |= gpu_shared::kProbeOptionLightsChanged;
   const bool drifting = in.lightsDrifting && !in.lightsChanged && !first_;
   if (drifting) options |= gpu_shared::kProbeOptionLightsDrifting;

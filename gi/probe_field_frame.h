@@ -87,8 +87,12 @@ struct ProbeFieldSettings {
   // With ChebyshevAndSdf: trace the SDF only for the cage corners whose depth moments leave the
   // answer open (probe_sample.glsl, probeSdfVisibilityPresumed); false traces every corner.
   bool sdfVisibilityWhereUnsure = true;
+  // probe_sample.comp (ProbeField::sample, GiSystem::irradiance): kProbeSampleShareLanes
+  // neighbouring queries in one cage split its SDF tests (probeGroupSharesCage); false: each
+  // traces its own, the answers of a per-pixel shader (sdfstream/probe_sample.glsl) bit for bit.
+  bool shareSdfTests = true;
   std::uint32_t rayBudget = kDefaultProbeRayBudget;  // rays per frame (all cascades)
-  float viewConeDegrees = 60.0f;       // half-angle of the cone counted as "in view"
+  float viewConeDegrees = 60.0f;                     // half-angle of the cone counted as "in view"
 
   glm::uvec3 grid() const { return glm::uvec3(16u / spacingBricks + 1u); }
   std::uint32_t probesPerVolume() const {

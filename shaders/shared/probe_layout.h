@@ -112,6 +112,9 @@ SDF_CONST uint kProbeOptionSdfEverywhere = 4096u;  // SDF visibility for every c
 // probe's refresh blends as much as an awake probe would over its sleep period.
 SDF_CONST uint kProbeOptionLightsDrifting = 8192u;
 SDF_CONST uint kProbeOptionDriftedBefore = 16384u;  // ... and so they did in the last frame
+// probe_sample.comp: every query traces its own SDF tests (no group shares them), as a per-pixel
+// shader does.
+SDF_CONST uint kProbeOptionSdfPerQuery = 32768u;
 // Bits 16..19: the region cascades listing an object (above every option bit; the mask once
 // shared bit 12 with kProbeOptionSdfEverywhere, which turned SDF visibility on everywhere
 // whenever cascade 0 listed an object).
@@ -124,6 +127,9 @@ SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the lis
 SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 356u;   // 10² irradiance + 16² depth tile texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
+// probe_sample.comp: consecutive queries (neighbouring pixels) that split the SDF tests of a
+// cage they share (a power of two dividing the workgroup's 64).
+SDF_CONST uint kProbeSampleShareLanes = 4u;
 
 struct ProbePushConstants {
   uvec4 dispatch;  // x: mode, y: threads of this dispatch, zw unused
@@ -162,7 +168,7 @@ static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 144);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
-static_assert(sdfstream::gpu_shared::kProbeOptionDriftedBefore <
+static_assert(sdfstream::gpu_shared::kProbeOptionSdfPerQuery <
               (1u << sdfstream::gpu_shared::kProbeObjectMaskShift));  // no option in the mask
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==

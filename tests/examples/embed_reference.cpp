@@ -25,7 +25,8 @@ std::vector<float> readPfm(const std::string& path) {
   float scale = 0;
   in >> magic >> w >> h >> scale;
   in.get();
-  if (!in || magic != "PF" || w != kSize || h != kSize) throw std::runtime_error(path + ": not a 64x64 PF image");
+  if (!in || magic != "PF" || w != kSize || h != kSize)
+    throw std::runtime_error(path + ": not a 64x64 PF image");
   std::vector<float> rgb(std::size_t(w) * h * 3);
   in.read(reinterpret_cast<char*>(rgb.data()), std::streamsize(rgb.size() * 4));
   if (!in) throw std::runtime_error(path + ": truncated");
@@ -34,7 +35,8 @@ std::vector<float> readPfm(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 4) return std::fprintf(stderr, "usage: embed_reference WORLD EXAMPLE_PFM FRAMES\n"), 2;
+  if (argc != 4)
+    return std::fprintf(stderr, "usage: embed_reference WORLD EXAMPLE_PFM FRAMES\n"), 2;
   const int frames = std::stoi(argv[3]);
   auto ctx = sdfstream::gpu::Context::create();
   sdfstream::PackTileStore store(argv[1]);
@@ -45,6 +47,7 @@ int main(int argc, char** argv) try {
   sdfstream::GiSettings settings;
   settings.probes.spacingBricks = 2;
   settings.probes.raysPerProbe = 64;
+  settings.probes.shareSdfTests = false;  // the example samples per pixel
   sdfstream::GiSystem gi(*ctx, settings, std::uint32_t(so.cascades));
   sdfstream::SceneLights lights;
   lights.lights.push_back({});
@@ -77,9 +80,12 @@ int main(int argc, char** argv) try {
       sum += e;
       worst = std::max(worst, std::abs(g - e) / std::max(std::abs(e), 1e-3));
     }
-  std::printf("[figures] embed example vs blocking path: %zu pixels, worst relative difference %.3g, "
-              "mean irradiance %.4f\n", expected.size(), worst, sum / (3.0 * double(expected.size())));
-  if (!(sum > 0.0)) return std::fprintf(stderr, "embed_reference: the blocking path's image is black\n"), 1;
+  std::printf(
+      "[figures] embed example vs blocking path: %zu pixels, worst relative difference %.3g, "
+      "mean irradiance %.4f\n",
+      expected.size(), worst, sum / (3.0 * double(expected.size())));
+  if (!(sum > 0.0))
+    return std::fprintf(stderr, "embed_reference: the blocking path's image is black\n"), 1;
   return worst <= 1e-4 ? 0 : 1;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "embed_reference: %s\n", e.what());

@@ -22,14 +22,17 @@ class ProbeFieldTest : public test::GpuTest {};
 // GPU == CPU for four frames of a 3-cascade field (5³ probes each, 32 rays) around the camera
 // of the streamed bunny: sun + sky, hit cache on, states, relocation; every stored texel, probe
 // state and statistic, and irradiance queries across the cascades.
-TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
-  test::StreamedBunny b = test::streamBunny();
-  const CascadeStackImage img = b.stack->stackImage();
+ProbeFieldSettings bunnyFieldSettings() {
   ProbeFieldSettings s;
   s.spacingBricks = 4;
   s.raysPerProbe = 32;
   s.states = true;
-  test::GiHarness h(ctx(), s, 3);
+  return s;
+}
+
+// Four frames of the GPU and CPU fields around the bunny's camera: sun + sky.
+void warmBunnyField(test::GiHarness& h, const test::StreamedBunny& b,
+                    const CascadeStackImage& img) {
   h.sky.zenith = glm::vec4(0.5f, 0.6f, 0.9f, 0.0f);
   h.sky.horizon = glm::vec4(0.8f, 0.8f, 0.8f, 0.0f);
   h.lights = test::sunLights(img, glm::vec3(-0.3f, -1.0f, -0.4f), 3.0f);
@@ -40,6 +43,16 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
     in.lightsChanged = frame == 0;
     h.step(img, in, frame);
   }
+}
+
+TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
+  test::StreamedBunny b = test::streamBunny();
+  const CascadeStackImage img = b.stack->stackImage();
+  test::GiHarness h(ctx(), bunnyFieldSettings(), 3);
+  warmBunnyField(h, b, img);
+  ProbeFrameInputs in;
+  in.cameraWorld = b.camera;
+  in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - b.camera));
   const ProbeFieldCpu& cpu = *h.cpuField;
   const auto gIrr = h.gpuField->downloadIrradiance();
   const auto gDepth = h.gpuField->downloadDepth();
@@ -83,7 +96,9 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   EXPECT_EQ(cpu.lastStats().raysCached, h.gpuField->lastStats().raysCached);
   const float cachedIrr =
       test::worstRelative<glm::vec4, 4>(cpu.irradiance(), h.gpuField->downloadIrradiance(), 1e-3f);
-  std::printf("[figures] probe field GPU vs CPU after 4 cached frames: max rel diff irradiance %.2e\n", cachedIrr);
+  std::printf(
+      "[figures] probe field GPU vs CPU after 4 cached frames: max rel diff irradiance %.2e\n",
+      cachedIrr);
   EXPECT_LE(cachedIrr, 2e-2f);
 
   const auto queries = test::randomQueries(img, 0, 2048, 7u);
@@ -92,10 +107,79 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   const float sampled = test::worstRelative<glm::vec3, 3>(cSample, gSample, 1e-3f);
   float mean = 0.0f;
   for (const glm::vec3& e : cSample) mean += (e.x + e.y + e.z) / 3.0f / float(cSample.size());
-  std::printf("[figures] field irradiance(x, n, view) GPU vs CPU: %zu queries, mean %.4f, max rel diff %.2e\n",
-              queries.size(), mean, sampled);
+  std::printf(
+      "[figures] field irradiance(x, n, view) GPU vs CPU: %zu queries, mean %.4f, max rel diff "
+      "%.2e\n",
+      queries.size(), mean, sampled);
   EXPECT_LE(sampled, 1e-3f);
   EXPECT_GT(mean, 0.0f);
+}
+
+// Pixels come to probe_sample.comp in groups of neighbours: kProbeSampleShareLanes receivers a few
+// hundredths of a voxel apart, in the same cage, split its open SDF tests (probeGroupSharesCage).
+// GPU == CPU on such queries; against every query tracing its own tests (PerQuery, the per-pixel
+// shader's answer) they differ only where a probe sees one receiver and not its neighbour.
+// Receivers farther apart than the tolerance (half a voxel of the cage's cascade) trace their own.
+TEST_F(ProbeFieldTest, NeighbouringQueriesSplitTheirSdfTests) {
+  test::StreamedBunny b = test::streamBunny();
+  const CascadeStackImage img = b.stack->stackImage();
+  test::GiHarness h(ctx(), bunnyFieldSettings(), 3);
+  warmBunnyField(h, b, img);
+  const ProbeFieldCpu& cpu = *h.cpuField;
+  auto quads = [&](float apart) {
+    std::vector<gpu_shared::ProbeQuery> q;
+    for (const gpu_shared::ProbeQuery& x : test::randomQueries(img, 0, 1024, 11u))
+      for (std::uint32_t k = 0; k < gpu_shared::kProbeSampleShareLanes; ++k) {
+        gpu_shared::ProbeQuery n = x;
+        n.position += glm::vec4(apart * float(k % 2), apart * float(k / 2), 0.0f, 0.0f);
+        q.push_back(n);
+      }
+    return q;
+  };
+  using Traces = ProbeFieldCpu::SampleTraces;
+  const auto near = quads(0.03f);
+  ProbeFieldCpu::SampleCounts counts;
+  const auto shared = cpu.sample(img, near, Traces::GroupsShareTraces, &counts);
+  const auto own = cpu.sample(img, near, Traces::PerQuery);
+  const float gpuVsCpu = test::worstRelative<glm::vec3, 3>(shared, h.sampleGpu(near), 1e-3f);
+  // The pass reports its SDF work: the same tests as the CPU's, and their steps (lavapipe's LLVM
+  // may contract a few multiply-adds outside the `precise` trace math).
+  const ProbeField::SampleWork work = h.gpuField->lastSampleWork();
+  EXPECT_EQ(work.tests, counts.traces);
+  EXPECT_NEAR(double(work.steps), double(counts.steps), 2e-3 * double(counts.steps));
+  EXPECT_GT(counts.steps, counts.traces);
+  std::size_t differ = 0;
+  double meanDiff = 0.0;
+  for (std::size_t i = 0; i < own.size(); ++i) {
+    const float a = own[i].x + own[i].y + own[i].z, d = shared[i].x + shared[i].y + shared[i].z;
+    const double rel = std::abs(double(d) - double(a)) / std::max(1e-3, double(a));
+    differ += rel > 1e-3 ? 1 : 0;
+    meanDiff += rel / double(own.size());
+  }
+  std::printf(
+      "[figures] groups 0.03 voxels apart: %llu of %llu cages shared, %llu SDF tests traced "
+      "instead "
+      "of %llu (%.2f), %.1f steps each; GPU vs CPU max rel diff %.2e; against per-query tests %zu "
+      "of %zu differ by "
+      "> 0.1%%, mean rel diff %.2e\n",
+      (unsigned long long)counts.sharedCages, (unsigned long long)counts.cages,
+      (unsigned long long)counts.traces, (unsigned long long)counts.ownTests,
+      double(counts.traces) / double(std::max<std::uint64_t>(counts.ownTests, 1)),
+      double(counts.steps) / double(std::max<std::uint64_t>(counts.traces, 1)), gpuVsCpu, differ,
+      own.size(), meanDiff);
+  EXPECT_LE(gpuVsCpu, 1e-3f);
+  EXPECT_GE(double(counts.sharedCages), 0.9 * double(counts.cages));
+  EXPECT_GT(counts.ownTests, 1000u);  // the SDF test is open often enough to tell
+  EXPECT_LE(double(counts.traces), 0.5 * double(counts.ownTests));
+  EXPECT_LE(double(differ), 0.01 * double(own.size()));
+  EXPECT_LE(meanDiff, 1e-3);
+
+  const auto far = quads(6.0f);  // beyond half a voxel of cascade 2 (4 voxels of cascade 0)
+  const auto farShared = cpu.sample(img, far, Traces::GroupsShareTraces, &counts);
+  const auto farOwn = cpu.sample(img, far, Traces::PerQuery);
+  EXPECT_EQ(counts.sharedCages, 0u);
+  EXPECT_LE((test::worstRelative<glm::vec3, 3>(farShared, farOwn, 1e-6f)), 1e-6f);
+  EXPECT_LE((test::worstRelative<glm::vec3, 3>(farShared, h.sampleGpu(far), 1e-3f)), 1e-3f);
 }
 
 // White furnace. Inside a closed box whose walls all have Lambertian albedo rho and emitted
@@ -120,7 +204,8 @@ TEST_F(ProbeFieldTest, WhiteFurnaceConvergesToAnalyticIrradiance) {
   ProbeFrameInputs in;
   in.cameraWorld = glm::dvec3(64.0);
   const int frames = 40;
-  for (int frame = 0; frame < frames; ++frame) h.step(box.image, in, std::uint64_t(frame), frame == 0);
+  for (int frame = 0; frame < frames; ++frame)
+    h.step(box.image, in, std::uint64_t(frame), frame == 0);
   const auto gIrr = h.gpuField->downloadIrradiance();
   const ProbeFieldCpu& cpu = *h.cpuField;
   double worstProbe = 0.0;
