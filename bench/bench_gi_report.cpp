@@ -381,13 +381,12 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
         "2 cascades × 17³ = 9,826 probes (within 0.3%). Our default uses "
      << (s.configs.size() > 1 ? std::to_string(s.configs[1].cascades) : "?") << " cascades.\n\n"
      << "| config | probes | rays/probe | classify | select | trace | blend | border | **probe "
-        "update** | **sampling** | ns/query | SDF tests/query | steps/test | **light cache** "
-        "(full relight, first frame) | relight, warm median of 5 | probes updated | "
+        "update** | **sampling** | ns/query | **light cache** (full relight, first frame) | "
+        "relight, warm median of 5 | probes updated | "
         "rays traced | rays cached | fresh G rays/s | MiB "
-        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,blend_ms,border_ms,update_ms,"
-         "sample_ms,sample_ns_per_query,sample_sdf_tests_per_query,sample_steps_per_test,"
-         "light_relight_ms,light_relight_warm_ms,probes_updated,"
+         "sample_ms,sample_ns_per_query,light_relight_ms,light_relight_warm_ms,probes_updated,"
          "rays_traced,rays_cached,fresh_grays_per_s,memory_mib\n";
   for (const ConfigResult& c : s.configs) {
     auto pass = [&](const char* n) {
@@ -405,7 +404,6 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
        << fmt("%.3f", pass("probe_trace")) << " | " << fmt("%.3f", pass("probe_blend")) << " | "
        << fmt("%.3f", pass("probe_border")) << " | " << fmt("%.3f", c.updateMs) << " | "
        << fmt("%.3f", c.sampleMs) << " | " << fmt("%.2f", c.sampleNsPerQuery) << " | "
-       << fmt("%.2f", c.sampleTestsPerQuery) << " | " << fmt("%.1f", c.sampleStepsPerTest) << " | "
        << fmt("%.3f", c.lightRelightMs) << " | " << fmt("%.3f", c.lightRelightWarmMs) << " | "
        << fmt("%.0f", c.probesUpdated) << " | " << fmt("%.0f", c.raysTraced) << " | "
        << fmt("%.0f", c.raysCached) << " | " << fmt("%.3f", freshRate) << " | "
@@ -413,10 +411,9 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
     csv << s.name << ',' << c.config << ',' << c.probes << ',' << c.rays << ','
         << pass("probe_classify") << ',' << select << ',' << pass("probe_trace") << ','
         << pass("probe_blend") << ',' << pass("probe_border") << ',' << c.updateMs << ','
-        << c.sampleMs << ',' << c.sampleNsPerQuery << ',' << c.sampleTestsPerQuery << ','
-        << c.sampleStepsPerTest << ',' << c.lightRelightMs << ',' << c.lightRelightWarmMs << ','
-        << c.probesUpdated << ',' << c.raysTraced << ',' << c.raysCached << ',' << freshRate << ','
-        << c.memoryMiB() << '\n';
+        << c.sampleMs << ',' << c.sampleNsPerQuery << ',' << c.lightRelightMs << ','
+        << c.lightRelightWarmMs << ',' << c.probesUpdated << ',' << c.raysTraced << ','
+        << c.raysCached << ',' << freshRate << ',' << c.memoryMiB() << '\n';
   }
   md << "\nLight cache under a sun that moves every frame (time of day): a new light every "
         "frame, at most the budget's pages relit per frame (LightRelightQueue: the longest out "

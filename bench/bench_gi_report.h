@@ -27,8 +27,6 @@ struct ConfigResult {
   double frameMs = 0.0;                          // updateMs + sampleMs: the x axis of the plots
   double frameBestMs = 0.0, frameWorstMs = 0.0;  // fastest / slowest measured frame
   double sampleNsPerQuery = 0.0;
-  // Sampling's SDF visibility work (last measured frame): tests traced per query, steps per test.
-  double sampleTestsPerQuery = 0.0, sampleStepsPerTest = 0.0;
   double lightRelightMs = 0.0;      // light cache relighting every resident page (light change)
   double lightRelightWarmMs = 0.0;  // --gpu-table: median of forced relights after the measure
   // --gpu-table: a sun moving every frame, one row per relight budget

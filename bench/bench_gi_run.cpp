@@ -206,10 +206,6 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
                    *std::max_element(sample.begin(), sample.end()) / views;
   r.sampleNsPerQuery =
       sc_.queries.empty() ? 0.0 : median(sample) * 1e6 / double(sc_.queries.size());
-  const probe::ProbeField::SampleWork& work = gi_.lastSampleWork();
-  r.sampleTestsPerQuery =
-      sc_.queries.empty() ? 0.0 : double(work.tests) / double(sc_.queries.size());
-  r.sampleStepsPerTest = work.tests ? double(work.steps) / double(work.tests) : 0.0;
   r.probesUpdated = median(probesUpdated);
   r.raysTraced = median(raysTraced);
   r.raysCached = median(raysCached);

@@ -109,8 +109,6 @@ class GiSystem {
   // Blocking (a CPU round trip): engines sample in their own shaders instead.
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
   double lastSampleMilliseconds() const;
-  // The last irradiance() call's SDF visibility work (tests traced, their steps).
-  const probe::ProbeField::SampleWork& lastSampleWork() const { return probes_.lastSampleWork(); }
   // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),
   // in binding order from SDFSTREAM_PROBE_BINDING: probe frame constants, volumes, probe data,
   // irradiance, depth, then the stack's page tables, distance atlas and cascade params (SDF

@@ -191,13 +191,7 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   timings_ = batch.timings();
   std::vector<glm::vec3> out(queries.size());
   const auto* r = static_cast<const glm::vec4*>(results_.host());
-  sampleWork_ = {};
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i] = glm::vec3(r[i]);
-    const auto work = std::uint32_t(r[i].w);  // tests x 2048 + steps
-    sampleWork_.tests += work >> 11;
-    sampleWork_.steps += work & 2047u;
-  }
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
   return out;
 }
 

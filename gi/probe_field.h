@@ -69,12 +69,6 @@ class ProbeField {
   // probe_select_emit, probe_select_args, probe_trace, probe_blend, probe_border / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
-  // The SDF visibility work of the last sample(): tests traced and their steps, summed over the
-  // queries (probe_sample.comp reports each invocation's in its result's alpha).
-  struct SampleWork {
-    std::uint64_t tests = 0, steps = 0;
-  };
-  const SampleWork& lastSampleWork() const { return sampleWork_; }
   std::size_t deviceBytes() const { return sizes_.bytes(); }
 
   std::vector<glm::vec4> downloadIrradiance() const;
@@ -115,7 +109,6 @@ class ProbeField {
   ProbeFieldStats stats_;
   friend class ::sdfstream::GiSystem;  // sets the last timings/stats of recorded frames
   std::vector<gpu::PassTiming> timings_;
-  SampleWork sampleWork_;
 };
 
 }  // namespace sdfstream::probe

@@ -210,7 +210,7 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
   base.depth = const_cast<glm::vec2*>(depth_.data());
   base.probeData = const_cast<glm::vec4*>(data_.data());
   std::vector<glm::vec3> out(queries.size());
-  std::atomic<std::uint64_t> cages = 0, sharedCages = 0, traced = 0, own = 0, steps = 0;
+  std::atomic<std::uint64_t> cages = 0, sharedCages = 0, traced = 0, own = 0;
   if (traces == SampleTraces::AsSettings)
     traces = settings_.shareSdfTests ? SampleTraces::GroupsShareTraces : SampleTraces::PerQuery;
   if (traces == SampleTraces::PerQuery) {
@@ -256,14 +256,12 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
           const auto& cage = plans[l].cage[i];
           const std::uint32_t corners =
               shares ? local.probeGroupLaneCorners(all, std::uint32_t(l)) : cage.traceMask;
-          const std::uint32_t answer = local.probeCageTrace(f, cage, corners, cage.biased);
-          visible[l][i] = answer & 0xffu;
+          visible[l][i] = local.probeCageTrace(f, cage, corners, cage.biased);
           any |= visible[l][i];
           cages += 1;
           sharedCages += shares ? 1 : 0;
           traced += std::uint64_t(std::popcount(corners));
           own += std::uint64_t(std::popcount(cage.traceMask));
-          steps += answer >> 8;
         }
         if (shares)
           for (std::size_t l = 0; l < kLanes; ++l) visible[l][i] = any;
@@ -276,7 +274,7 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
       }
     }
   });
-  if (counts) *counts = {cages.load(), sharedCages.load(), traced.load(), own.load(), steps.load()};
+  if (counts) *counts = {cages.load(), sharedCages.load(), traced.load(), own.load()};
   return out;
 }
 

@@ -59,11 +59,11 @@ class ProbeFieldCpu {
   // its SDF tests, probeGroupSharesCage); PerQuery traces every query's own tests
   // (probeFieldIrradiance, what an engine's shader computes per pixel). `counts` (GroupsShareTraces
   // only), when given, receives how many cages were sampled, how many of them a group shared, how
-  // many SDF tests were traced, how many tracing every query's own would have taken, and the traced
-  // tests' steps. AsSettings: as ProbeFieldSettings::shareSdfTests says.
+  // many SDF tests were traced, and how many tracing every query's own would have taken.
+  // AsSettings: as ProbeFieldSettings::shareSdfTests says.
   enum class SampleTraces { AsSettings, GroupsShareTraces, PerQuery };
   struct SampleCounts {
-    std::uint64_t cages = 0, sharedCages = 0, traces = 0, ownTests = 0, steps = 0;
+    std::uint64_t cages = 0, sharedCages = 0, traces = 0, ownTests = 0;
   };
   std::vector<glm::vec3> sample(const CascadeStackImage& stack,
                                 std::span<const gpu_shared::ProbeQuery> queries,

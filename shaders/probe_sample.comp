@@ -1,8 +1,7 @@
 #version 450
 // Batched irradiance(x, n, view) queries of the probe field (probeFieldIrradiance): one
 // invocation per query (position.w = 1 + cascade samples that cascade alone, 0 = all);
-// results rgb = irradiance, a = the SDF work this invocation did (tests traced x 2048 + their
-// steps; ProbeField::lastSampleWork sums it).
+// results rgb = irradiance, a = 0.
 //
 // The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries come in pixel order,
 // so kProbeSampleShareLanes consecutive ones (a group) are usually neighbouring pixels in the same
@@ -47,7 +46,6 @@ void main() {
   }
   barrier();
   bool shares[2];
-  uint work = 0u;
   bool perQuery = (frame.options.x & kProbeOptionSdfPerQuery) != 0u;
   for (uint i = 0u; i < 2u; ++i) {
     shares[i] = !perQuery && sharedCascade[lead][i] != kNoCage;
@@ -63,9 +61,7 @@ void main() {
         corners = probeGroupLaneCorners(all, lane - lead);
       }
       // A shared cage is the same cage in every lane: only the set of corners differs.
-      uint answer = probeCageTrace(frame, plan.cage[i], corners, plan.cage[i].biased);
-      visible = answer & 0xffu;
-      work += (uint(bitCount(corners)) << 11u) + (answer >> 8u);
+      visible = probeCageTrace(frame, plan.cage[i], corners, plan.cage[i].biased);
     }
     sharedVisible[lane][i] = visible;
   }
@@ -79,5 +75,5 @@ void main() {
   }
   results[id] = vec4(probeFieldFinish(frame, plan, q.position.xyz, q.normal.xyz, q.view.xyz,
                                       visible[0], visible[1]),
-                     float(work));
+                     0.0);
 }

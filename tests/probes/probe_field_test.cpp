@@ -142,12 +142,6 @@ TEST_F(ProbeFieldTest, NeighbouringQueriesSplitTheirSdfTests) {
   const auto shared = cpu.sample(img, near, Traces::GroupsShareTraces, &counts);
   const auto own = cpu.sample(img, near, Traces::PerQuery);
   const float gpuVsCpu = test::worstRelative<glm::vec3, 3>(shared, h.sampleGpu(near), 1e-3f);
-  // The pass reports its SDF work: the same tests as the CPU's, and their steps (lavapipe's LLVM
-  // may contract a few multiply-adds outside the `precise` trace math).
-  const ProbeField::SampleWork work = h.gpuField->lastSampleWork();
-  EXPECT_EQ(work.tests, counts.traces);
-  EXPECT_NEAR(double(work.steps), double(counts.steps), 2e-3 * double(counts.steps));
-  EXPECT_GT(counts.steps, counts.traces);
   std::size_t differ = 0;
   double meanDiff = 0.0;
   for (std::size_t i = 0; i < own.size(); ++i) {
@@ -159,13 +153,12 @@ TEST_F(ProbeFieldTest, NeighbouringQueriesSplitTheirSdfTests) {
   std::printf(
       "[figures] groups 0.03 voxels apart: %llu of %llu cages shared, %llu SDF tests traced "
       "instead "
-      "of %llu (%.2f), %.1f steps each; GPU vs CPU max rel diff %.2e; against per-query tests %zu "
+      "of %llu (%.2f); GPU vs CPU max rel diff %.2e; against per-query tests %zu "
       "of %zu differ by "
       "> 0.1%%, mean rel diff %.2e\n",
       (unsigned long long)counts.sharedCages, (unsigned long long)counts.cages,
       (unsigned long long)counts.traces, (unsigned long long)counts.ownTests,
-      double(counts.traces) / double(std::max<std::uint64_t>(counts.ownTests, 1)),
-      double(counts.steps) / double(std::max<std::uint64_t>(counts.traces, 1)), gpuVsCpu, differ,
+      double(counts.traces) / double(std::max<std::uint64_t>(counts.ownTests, 1)), gpuVsCpu, differ,
       own.size(), meanDiff);
   EXPECT_LE(gpuVsCpu, 1e-3f);
   EXPECT_GE(double(counts.sharedCages), 0.9 * double(counts.cages));
