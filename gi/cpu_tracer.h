@@ -15,6 +15,9 @@ struct TraceSettings {
   std::uint32_t maxSteps = 256;    // iteration cap per ray
   float hitEpsilon = 0.02f;        // voxels; a distance sample below this is a hit
   std::uint32_t firstCascade = 0;  // stack traversal: start here, as a probe of that cascade
+  // Stack traversal: step as sampling's visibility tests do (sdfVisibilitySteps: hit or miss
+  // only, surfaces far from tMax count a quarter voxel thicker) instead of exactly.
+  bool visibilityRule = false;
 };
 
 // Traces rays (cascade voxel units) against the cascade. Thread-safe; parallel over rays (TBB).

@@ -1,5 +1,7 @@
 #include "gi/gpu_stack_tracer.h"
 
+#include <stdexcept>
+
 namespace sdfstream {
 GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack)
     : context_(context),
@@ -13,6 +15,8 @@ GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack)
 
 std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shared::TraceRay> rays,
                                                         const TraceSettings& settings) {
+  if (settings.visibilityRule)
+    throw std::invalid_argument("GpuStackTracer traces exactly; the visibility rule is sampling's");
   if (rays.empty()) return {};
   batch_.stage(rays);
   gpu_shared::TraceStackPushConstants pc{std::uint32_t(rays.size()), settings.maxSteps,

@@ -121,6 +121,74 @@ TEST(StackTraceCpu, MissingPagesFallBackToACoarserCascade) {
   EXPECT_GE(hitsAfter, hitsBefore * 95 / 100) << "coarser cascades still see the bunny";
 }
 
+// Sampling's visibility tests trace by a looser rule (sdfVisibilitySteps: over-relaxed steps, a
+// hit threshold of up to a quarter voxel away from the target). Probe-to-receiver segments like
+// sampling's: from points around the bunny to the camera's hits on it, lifted one voxel off the
+// surface. The loose rule must never see through a wall the exact trace finds before the
+// target (within half a voxel of it a hit is the receiver's own surface), may block only
+// where the ray passes within its threshold of a surface (the exact trace with that threshold
+// blocks too), and must take fewer steps.
+TEST(StackTraceCpu, VisibilityRuleBlocksWhatTheExactTraceBlocksInFewerSteps) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  auto cameraRays = raysFromCamera(b, img, 6000);
+  auto cameraHits = traceStackCpu(img, cameraRays, TraceSettings{});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const glm::vec3 lo = img.toStack(glm::dvec3(b.triangles.boundsMin()));
+  const glm::vec3 hi = img.toStack(glm::dvec3(b.triangles.boundsMax()));
+  const glm::vec3 grow = (hi - lo) * 0.25f;
+  std::vector<gpu_shared::TraceRay> tests;
+  for (size_t i = 0; i < cameraRays.size(); ++i) {
+    if (!(cameraHits[i].flags & gpu_shared::kHitFlagHit)) continue;
+    const float scale = float(1 << ((cameraHits[i].flags >> gpu_shared::kHitCascadeShift) & 15));
+    const glm::vec3 hit = glm::vec3(cameraRays[i].originTMin) +
+                          glm::vec3(cameraRays[i].dirTMax) * cameraHits[i].normalT.w;
+    const glm::vec3 receiver = hit + glm::vec3(cameraHits[i].normalT) * scale;
+    const glm::vec3 probe = lo - grow + (hi - lo + 2.0f * grow) * glm::vec3(u(rng), u(rng), u(rng));
+    const glm::vec3 d = receiver - probe;
+    const float r = glm::length(d);
+    if (r < 1.0f) continue;
+    tests.push_back({glm::vec4(probe, 0.0f), glm::vec4(d / r, r)});
+  }
+  TraceSettings exact, loose, thick;
+  loose.visibilityRule = true;
+  thick.hitEpsilon = 0.3f;  // the rule's largest threshold (0.25) and a margin
+  const auto e = traceStackCpu(img, tests, exact);
+  const auto l = traceStackCpu(img, tests, loose);
+  const auto t = traceStackCpu(img, tests, thick);
+  auto blocked = [](const gpu_shared::TraceHit& h) {
+    return (h.flags & gpu_shared::kHitFlagHit) != 0u;
+  };
+  int exactBlocked = 0, looseBlocked = 0, seenThrough = 0, blockedBeyondThreshold = 0;
+  double exactSteps = 0.0, looseSteps = 0.0;
+  for (size_t i = 0; i < tests.size(); ++i) {
+    exactBlocked += blocked(e[i]);
+    looseBlocked += blocked(l[i]);
+    // A hit within half a voxel of the target is the receiver's own surface (either answer
+    // will do); one before it is a wall the loose rule must see too.
+    const float scale = float(1 << ((e[i].flags >> gpu_shared::kHitCascadeShift) & 15));
+    const bool wallBefore = blocked(e[i]) && e[i].normalT.w < tests[i].dirTMax.w - 0.5f * scale;
+    seenThrough += wallBefore && !blocked(l[i]);
+    blockedBeyondThreshold += blocked(l[i]) && !blocked(t[i]);
+    exactSteps += e[i].steps;
+    looseSteps += l[i].steps;
+  }
+  const double n = double(tests.size());
+  std::printf(
+      "[figures] visibility rule: %zu segments, blocked exact %d / loose %d; seen through "
+      "%d, blocked beyond 0.3 voxel %d; steps a test exact %.2f, loose %.2f\n",
+      tests.size(), exactBlocked, looseBlocked, seenThrough, blockedBeyondThreshold, exactSteps / n,
+      looseSteps / n);
+  ASSERT_GT(tests.size(), 3000u);
+  EXPECT_GT(exactBlocked, int(n * 0.1));
+  EXPECT_LT(exactBlocked, int(n * 0.9));
+  EXPECT_EQ(seenThrough, 0);
+  EXPECT_EQ(blockedBeyondThreshold, 0);
+  EXPECT_LT(looseBlocked - exactBlocked, int(n * 0.05));
+  EXPECT_LT(looseSteps, 0.9 * exactSteps);
+}
+
 // The same pack seen 100 km away: tile and brick coordinates shifted by a whole number of tiles.
 class ShiftedStore : public TileStore {
  public:
