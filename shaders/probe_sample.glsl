@@ -212,6 +212,31 @@ float probeCascadeShare(ProbeFrame f, uint c, vec3 x) {
   return last ? 1.0f : clamp(edge - 0.5f, 0.0f, 1.0f);
 }
 
+// The walk of probeFieldIrradiance from cascade `first` on: each cascade that holds x adds its
+// estimate times its share of what the finer ones left (sum), until nothing remains.
+struct ProbeCascadeBlend {
+  vec3 sum;
+  float remaining;
+};
+
+ProbeCascadeBlend probeCascadeWalk(ProbeFrame f, uint first, vec3 x, vec3 n, vec3 view,
+                                   bool sdfVisibility, ProbeCascadeBlend blend) {
+  for (uint c = first; c < f.counts.x && blend.remaining > 0.0f; ++c) {
+    float w = probeCascadeShare(f, c, x);
+    if (w < 0.0f) continue;
+    vec4 e = probeVolumeIrradiance(f, c, x, n, view, sdfVisibility);
+    if (e.w <= 0.0f) continue;
+    blend.sum += vec3(e) * (blend.remaining * w);
+    blend.remaining *= 1.0f - w;
+  }
+  return blend;
+}
+
+vec3 probeCascadeBlendResult(ProbeCascadeBlend blend) {
+  float used = 1.0f - blend.remaining;
+  return used > 0.0f ? blend.sum / used : vec3(0.0f);
+}
+
 // The field's irradiance at x (cascade-0 voxels) for unit normal n seen from view: the finest
 // cascade whose probe grid holds x at least half a spacing inside, blended over the next spacing
 // into the next coarser cascade (a smooth band, no seams where cascades meet; GS "cascades").
@@ -220,19 +245,10 @@ vec3 probeFieldIrradiance(ProbeFrame f, vec3 x, vec3 n, vec3 view, bool allowSdf
                           int onlyCascade) {
   bool sdfVisibility = allowSdfVisibility && (f.options.x & kProbeOptionSdfVisibility) != 0u;
   if (onlyCascade >= 0) return vec3(probeVolumeIrradiance(f, uint(onlyCascade), x, n, view, sdfVisibility));
-  vec3 result = vec3(0.0f);
-  float remaining = 1.0f;
-  for (uint c = 0u; c < f.counts.x; ++c) {
-    float w = probeCascadeShare(f, c, x);
-    if (w < 0.0f) continue;
-    vec4 e = probeVolumeIrradiance(f, c, x, n, view, sdfVisibility);
-    if (e.w <= 0.0f) continue;
-    result += vec3(e) * (remaining * w);
-    remaining *= 1.0f - w;
-    if (remaining <= 0.0f) break;
-  }
-  float used = 1.0f - remaining;
-  return used > 0.0f ? result / used : vec3(0.0f);
+  ProbeCascadeBlend blend;
+  blend.sum = vec3(0.0f);
+  blend.remaining = 1.0f;
+  return probeCascadeBlendResult(probeCascadeWalk(f, 0u, x, n, view, sdfVisibility, blend));
 }
 
 // ---- Sampling with shared SDF tests (probe_sample.comp) ---------------------------------------
@@ -284,27 +300,19 @@ ProbeFieldPlan probeFieldPlan(ProbeFrame f, vec3 x, vec3 n, vec3 view, int onlyC
 vec3 probeFieldFinish(ProbeFrame f, ProbeFieldPlan plan, vec3 x, vec3 n, vec3 view,
                       uint visible0, uint visible1) {
   if (plan.share[0] < 0.0f) return vec3(probeCageIrradiance(f, plan.cage[0], n, visible0));
-  vec3 result = vec3(0.0f);
-  float remaining = 1.0f;
+  ProbeCascadeBlend blend;
+  blend.sum = vec3(0.0f);
+  blend.remaining = 1.0f;
   for (uint i = 0u; i < plan.count; ++i) {
     vec4 e = probeCageIrradiance(f, plan.cage[i], n, i == 0u ? visible0 : visible1);
-    result += vec3(e) * (remaining * plan.share[i]);
-    remaining *= 1.0f - plan.share[i];
+    blend.sum += vec3(e) * (blend.remaining * plan.share[i]);
+    blend.remaining *= 1.0f - plan.share[i];
   }
-  if (plan.resume > 0u && remaining > 0.0f) {
+  if (plan.resume > 0u) {
     bool sdfVisibility = (f.options.x & kProbeOptionSdfVisibility) != 0u;
-    for (uint c = plan.resume - 1u; c < f.counts.x; ++c) {
-      float w = probeCascadeShare(f, c, x);
-      if (w < 0.0f) continue;
-      vec4 e = probeVolumeIrradiance(f, c, x, n, view, sdfVisibility);
-      if (e.w <= 0.0f) continue;
-      result += vec3(e) * (remaining * w);
-      remaining *= 1.0f - w;
-      if (remaining <= 0.0f) break;
-    }
+    blend = probeCascadeWalk(f, plan.resume - 1u, x, n, view, sdfVisibility, blend);
   }
-  float used = 1.0f - remaining;
-  return used > 0.0f ? result / used : vec3(0.0f);
+  return probeCascadeBlendResult(blend);
 }
 
 // Whether a group of receivers (kProbeSampleShareLanes consecutive queries: neighbouring pixels
