@@ -233,7 +233,10 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
         relaxedStep = false;
         continue;
       }
-      float epsilon = max(hitEpsilon, min(rule.epsilonMax, rule.epsilonGrowth * (tMax - t)));
+      // Written so that the exact rule's constants fold these away (no cost to exact traces).
+      float epsilon = rule.epsilonGrowth > 0.0f
+                          ? max(hitEpsilon, min(rule.epsilonMax, rule.epsilonGrowth * (tMax - t)))
+                          : hitEpsilon;
       if (s.distance < epsilon) {
         // Two Newton steps onto the zero crossing (t += d): the stopping point of a sphere
         // trace depends on where its steps happened to land (anywhere in the last epsilon);
@@ -262,7 +265,7 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
       // conservative without costing many iterations.
       float plain = max(s.distance * 0.9f, 0.05f);
       float relaxed = s.distance * 0.9f * rule.relaxation;
-      relaxedStep = relaxed > plain;
+      relaxedStep = rule.relaxation > 1.0f && relaxed > plain;
       stepFromDistance = s.distance;
       stepLength = relaxedStep ? relaxed : plain;
       t += stepLength;
