@@ -16,7 +16,8 @@ struct TraceSettings {
   float hitEpsilon = 0.02f;        // voxels; a distance sample below this is a hit
   std::uint32_t firstCascade = 0;  // stack traversal: start here, as a probe of that cascade
   // Stack traversal: step as sampling's visibility tests do (sdfVisibilitySteps: hit or miss
-  // only, surfaces far from tMax count a quarter voxel thicker) instead of exactly.
+  // only, surfaces far from tMax count a quarter voxel thicker) instead of exactly. CPU only:
+  // GpuStackTracer traces exactly and rejects it.
   bool visibilityRule = false;
 };
 

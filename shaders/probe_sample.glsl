@@ -11,8 +11,9 @@
 // ---- Sampling: irradiance(x, n, view) (issue 5 item 7) ---------------------------------------
 
 // SDFDDGI's visibility (Sec. 4.2): the SDF is traced from the probe towards the receiver; a
-// surface in between makes the probe invisible (a tiny weight, crushed to nothing below). On
-// top of Chebyshev by default: coarse cascades' depth texels mix misses and near hits (large
+// surface in between makes the probe invisible (a tiny weight, crushed to nothing below). Only hit
+// or miss matters, so the trace steps by sdfVisibilitySteps, not exactly (shaders/sdf_trace.glsl).
+// On top of Chebyshev by default: coarse cascades' depth texels mix misses and near hits (large
 // variance), where Chebyshev alone lets light through one-voxel walls.
 float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
   vec3 d = receiver - probe;

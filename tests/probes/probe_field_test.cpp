@@ -152,10 +152,8 @@ TEST_F(ProbeFieldTest, NeighbouringQueriesSplitTheirSdfTests) {
   }
   std::printf(
       "[figures] groups 0.03 voxels apart: %llu of %llu cages shared, %llu SDF tests traced "
-      "instead "
-      "of %llu (%.2f); GPU vs CPU max rel diff %.2e; against per-query tests %zu "
-      "of %zu differ by "
-      "> 0.1%%, mean rel diff %.2e\n",
+      "instead of %llu (%.2f); GPU vs CPU max rel diff %.2e; against per-query tests %zu of %zu "
+      "differ by > 0.1%%, mean rel diff %.2e\n",
       (unsigned long long)counts.sharedCages, (unsigned long long)counts.cages,
       (unsigned long long)counts.traces, (unsigned long long)counts.ownTests,
       double(counts.traces) / double(std::max<std::uint64_t>(counts.ownTests, 1)), gpuVsCpu, differ,
