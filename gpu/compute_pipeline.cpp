@@ -1,11 +1,13 @@
 #include "gpu/compute_pipeline.h"
 
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "gpu/check.h"
 #include "gpu/context.h"
+#include "gpu/pipeline_statistics.h"
 #include "gpu/spirv_info.h"
 
 namespace sdfstream::gpu {
@@ -56,7 +58,11 @@ ComputePipeline::ComputePipeline(Context& ctx, ShaderId shader, const PipelineDe
     info.stage.module = module;
     info.stage.pName = "main";
     info.layout = layout_;
+    if (ctx.pipelineStatistics()) info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
     SDFSTREAM_VK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
+    if (ctx.pipelineStatistics())
+      std::fprintf(stderr, "pipeline stats %s: %s\n", shaderName(shader),
+                   pipelineStatisticsLine(device, pipeline_).c_str());
     // The pipeline keeps its own copy of the code; the module is only needed for creation.
     vkDestroyShaderModule(device, module, nullptr);
   } catch (...) {

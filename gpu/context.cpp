@@ -11,6 +11,7 @@
 #include "gpu/command_batch.h"
 #include "gpu/device_requirements.h"
 #include "gpu/device_select.h"
+#include "gpu/pipeline_statistics.h"
 
 namespace sdfstream::gpu {
 namespace {
@@ -120,7 +121,17 @@ void Context::createDevice() {
   queueInfo.pQueuePriorities = &priority;
 
   VkPhysicalDeviceVulkan12Features f12 = requiredFeatures12();
-  const std::span<const char* const> extensions = requiredExtensions();
+  std::vector<const char*> extensions(requiredExtensions().begin(), requiredExtensions().end());
+  // The compiler's resource report, on request only: capturing it may cost pipeline-cache hits.
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR statistics{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+  pipelineStatistics_ = envFlag("SDFSTREAM_PIPELINE_STATS") &&
+                        supportsExtension(physicalDevice_, kPipelineStatisticsExtension);
+  if (pipelineStatistics_) {
+    extensions.push_back(kPipelineStatisticsExtension);
+    statistics.pipelineExecutableInfo = VK_TRUE;
+    f12.pNext = &statistics;
+  }
 
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &f12;

@@ -187,6 +187,9 @@ class Context {
   std::uint32_t maxPushDescriptors() const { return maxPushDescriptors_; }
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet() const { return cmdPushDescriptorSet_; }
   // Null when validation (and so VK_EXT_debug_utils) is off.
+  // True when pipelines capture the driver's statistics and print them at creation
+  // (SDFSTREAM_PIPELINE_STATS=1 on a device of the Context's own; gpu/pipeline_statistics.h).
+  bool pipelineStatistics() const { return pipelineStatistics_; }
   PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginLabel() const { return cmdBeginLabel_; }
   PFN_vkCmdEndDebugUtilsLabelEXT cmdEndLabel() const { return cmdEndLabel_; }
 
@@ -219,6 +222,7 @@ class Context {
   [[noreturn]] void deviceLostError(const char* call);
   std::uint64_t hostWaitCount_ = 0;
   bool adopted_ = false;
+  bool pipelineStatistics_ = false;
   std::uint64_t openBatches_ = 0;  // CommandBatches recording, not yet submitted or released
   std::uint64_t deferTag_ = 0;     // the submission the newest deferred destruction waits for
   friend class CommandBatch;

@@ -7,16 +7,6 @@ namespace {
 
 constexpr const char* kExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
 
-bool supportsExtension(VkPhysicalDevice device, const char* name) {
-  std::uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
-  std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
-  for (const auto& e : extensions)
-    if (std::strcmp(e.extensionName, name) == 0) return true;
-  return false;
-}
-
 bool listed(std::span<const char* const> names, const char* name) {
   for (const char* n : names)
     if (n && std::strcmp(n, name) == 0) return true;
@@ -28,6 +18,16 @@ std::string versionText(std::uint32_t v) {
 }
 
 }  // namespace
+
+bool supportsExtension(VkPhysicalDevice device, const char* name) {
+  std::uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+  for (const auto& e : extensions)
+    if (std::strcmp(e.extensionName, name) == 0) return true;
+  return false;
+}
 
 std::span<const char* const> requiredExtensions() { return kExtensions; }
 

@@ -28,6 +28,9 @@ struct EnabledDeviceState {
 std::vector<std::string> missingRequirements(VkPhysicalDevice device,
                                              const EnabledDeviceState* enabled = nullptr);
 
+// True when `device` offers the device extension `name`.
+bool supportsExtension(VkPhysicalDevice device, const char* name);
+
 // The family to submit compute work to: the first with compute, preferring one with timestamps.
 // UINT32_MAX when there is none. `timestampBits` (optional) receives its timestampValidBits.
 std::uint32_t findComputeFamily(VkPhysicalDevice device, std::uint32_t* timestampBits);

@@ -8,6 +8,9 @@
 #include <string>
 
 #include "gpu/context.h"
+#include "gpu/device_requirements.h"
+#include "gpu/pipeline_statistics.h"
+#include "tests/gpu/saxpy.h"
 #include "tests/support/gpu_test.h"
 
 namespace sdfstream::test {
@@ -86,6 +89,25 @@ TEST_F(ContextTest, EnvironmentOverridesAutomaticChoiceOnly) {
   // An explicit option wins over the environment.
   EXPECT_EQ(gpu::Context::create({.device = "0", .validation = true})->deviceName(),
             gpu::Context::create({.device = ctx().deviceName(), .validation = true})->deviceName());
+}
+
+// The resource report is opt-in and never a requirement: asked for on a device without the
+// extension (lavapipe of Debian 12), the Context still works and says it captures nothing; on one
+// with it, every pipeline reports at least one statistic of its executable.
+TEST_F(ContextTest, PipelineStatisticsOnRequestWhereTheDeviceHasThem) {
+  EnvGuard guard("SDFSTREAM_PIPELINE_STATS");
+  EXPECT_FALSE(ctx().pipelineStatistics()) << "off unless asked for";
+  setenv("SDFSTREAM_PIPELINE_STATS", "1", 1);
+  auto asked = gpu::Context::create({.device = "0", .validation = true});
+  EXPECT_EQ(asked->pipelineStatistics(),
+            gpu::supportsExtension(asked->physicalDevice(), gpu::kPipelineStatisticsExtension));
+  gpu::ComputePipeline saxpy = makeSaxpy(*asked);
+  EXPECT_TRUE(bool(saxpy));
+  if (asked->pipelineStatistics()) {
+    const std::string line = gpu::pipelineStatisticsLine(asked->device(), saxpy.handle());
+    EXPECT_NE(line.find('='), std::string::npos) << line;
+  }
+  EXPECT_EQ(asked->validationMessageCount(), 0u);
 }
 
 }  // namespace
