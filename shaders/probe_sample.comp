@@ -37,43 +37,48 @@ void main() {
   plan.count = 0u;
   if (valid)
     plan = probeFieldPlan(frame, q.position.xyz, q.normal.xyz, q.view.xyz, int(q.position.w) - 1);
+  // Cages by constant indices or probePlanCage only: a variable index keeps the plan in local
+  // memory (probe_sample.glsl, probeFieldPlan).
   for (uint i = 0u; i < 2u; ++i) {
     bool has = i < plan.count;
-    sharedCascade[lane][i] = has ? plan.cage[i].cascade : kNoCage;
-    sharedBase[lane][i] = has ? ivec4(plan.cage[i].base, 0) : ivec4(0);
-    sharedBiased[lane][i] = has ? vec4(plan.cage[i].biased, 0.0) : vec4(0.0);
-    sharedTraceMask[lane][i] = has ? plan.cage[i].traceMask : 0u;
+    ProbeCage cage = probePlanCage(plan, i);
+    sharedCascade[lane][i] = has ? cage.cascade : kNoCage;
+    sharedBase[lane][i] = has ? ivec4(cage.base, 0) : ivec4(0);
+    sharedBiased[lane][i] = has ? vec4(cage.biased, 0.0) : vec4(0.0);
+    sharedTraceMask[lane][i] = has ? cage.traceMask : 0u;
   }
   barrier();
-  bool shares[2];
+  uint sharesMask = 0u;  // bit i: cage i's tests are shared by the group
   bool perQuery = (frame.options.x & kProbeOptionSdfPerQuery) != 0u;
   for (uint i = 0u; i < 2u; ++i) {
-    shares[i] = !perQuery && sharedCascade[lead][i] != kNoCage;
+    bool shares = !perQuery && sharedCascade[lead][i] != kNoCage;
     for (uint k = 1u; k < kProbeSampleShareLanes; ++k)
-      shares[i] = shares[i] && sharedCascade[lead + k][i] != kNoCage &&
-                  probeGroupSharesCage(groupCage(lead, i), groupCage(lead + k, i));
+      shares = shares && sharedCascade[lead + k][i] != kNoCage &&
+               probeGroupSharesCage(groupCage(lead, i), groupCage(lead + k, i));
+    if (shares) sharesMask |= 1u << i;
     uint visible = 0u;
     if (i < plan.count) {
-      uint corners = plan.cage[i].traceMask;
-      if (shares[i]) {
+      ProbeCage cage = probePlanCage(plan, i);
+      uint corners = cage.traceMask;
+      if (shares) {
         uint all = 0u;
         for (uint k = 0u; k < kProbeSampleShareLanes; ++k) all |= sharedTraceMask[lead + k][i];
         corners = probeGroupLaneCorners(all, lane - lead);
       }
       // A shared cage is the same cage in every lane: only the set of corners differs.
-      visible = probeCageTrace(frame, plan.cage[i], corners, plan.cage[i].biased);
+      visible = probeCageTrace(frame, cage, corners, cage.biased);
     }
     sharedVisible[lane][i] = visible;
   }
   barrier();
   if (!valid) return;
-  uint visible[2];
-  for (uint i = 0u; i < 2u; ++i) {
-    visible[i] = sharedVisible[lane][i];
-    if (shares[i])
-      for (uint k = 0u; k < kProbeSampleShareLanes; ++k) visible[i] |= sharedVisible[lead + k][i];
+  uint visible0 = sharedVisible[lane][0];
+  uint visible1 = sharedVisible[lane][1];
+  for (uint k = 0u; k < kProbeSampleShareLanes; ++k) {
+    if ((sharesMask & 1u) != 0u) visible0 |= sharedVisible[lead + k][0];
+    if ((sharesMask & 2u) != 0u) visible1 |= sharedVisible[lead + k][1];
   }
   results[id] = vec4(probeFieldFinish(frame, plan, q.position.xyz, q.normal.xyz, q.view.xyz,
-                                      visible[0], visible[1]),
+                                      visible0, visible1),
                      0.0);
 }
