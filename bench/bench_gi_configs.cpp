@@ -95,6 +95,17 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     s = base;
     s.relocation = false;
     add(prefix + "no-relocation", "ours", "relocation off", s, cascades, !quick);
+    if (!quick) {
+      // Where relocation leaves a probe and where the self-shadow bias moves the receiver: both
+      // trade light between scenes (docs/DECISIONS.md, "Relocation clearance and self-shadow
+      // bias"), so the sweep keeps a row for each.
+      s = def;
+      s.relocationMinDistance = 0.1f;
+      add("clearance-0.1", "ours", "relocation clearance 0.1 spacing", s, cascades, true);
+      s = def;
+      s.selfShadowBias = 0.25f;
+      add("self-shadow-bias-0.25", "ours", "self-shadow bias 0.25", s, cascades, true);
+    }
     s = base;
     s.visibility = ProbeFieldSettings::Visibility::Chebyshev;
     add(prefix + "vis-chebyshev", "ours", "visibility chebyshev", s, cascades, !quick);
