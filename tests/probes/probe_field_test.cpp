@@ -115,6 +115,34 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   EXPECT_GT(mean, 0.0f);
 }
 
+// probe_blend.comp stages a probe's rays in shared memory 128 at a time; with more rays than
+// that each texel sums chunk after chunk, re-staging them for each of the thread's texels. 160
+// rays (a full chunk and a partial one) against the CPU's single pass over all of them, with the
+// bounds of the test above.
+TEST_F(ProbeFieldTest, BlendOverSeveralRayChunksMatchesCpu) {
+  test::StreamedBunny b = test::streamBunny();
+  const CascadeStackImage img = b.stack->stackImage();
+  ProbeFieldSettings s = bunnyFieldSettings();
+  s.raysPerProbe = 160;
+  test::GiHarness h(ctx(), s, 3);
+  warmBunnyField(h, b, img);
+  const ProbeFieldCpu& cpu = *h.cpuField;
+  ASSERT_GT(cpu.lastStats().probesUpdated, 0u);
+  const auto gDepth = h.gpuField->downloadDepth();
+  const float irr =
+      test::worstRelative<glm::vec4, 4>(cpu.irradiance(), h.gpuField->downloadIrradiance(), 1e-3f);
+  const auto c = cpu.depth();
+  std::size_t close = 0;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    close += std::abs(c[i].x - gDepth[i].x) <= 1e-3f * std::max(1.0f, std::abs(c[i].x));
+  std::printf(
+      "[figures] 160 rays a probe, GPU vs CPU: max rel diff irradiance %.2e, depth texels within "
+      "1e-3: %zu of %zu\n",
+      irr, close, c.size());
+  EXPECT_LE(irr, 1e-2f);
+  EXPECT_GE(double(close), 0.99 * double(c.size()));
+}
+
 // Pixels come to probe_sample.comp in groups of neighbours: kProbeSampleShareLanes receivers a few
 // hundredths of a voxel apart, in the same cage, split its open SDF tests (probeGroupSharesCage).
 // GPU == CPU on such queries; against every query tracing its own tests (PerQuery, the per-pixel
