@@ -126,9 +126,10 @@ vec3 probeCornerWeight(ProbeFrame f, ProbeCage cage, uint corner, vec3 x, vec3 n
 }
 
 // A usable corner's part of the cage's estimate once its weight is final (the SDF test's answer
-// included): the weight crushed below 0.2, times trilinear; (irradiance x weight, weight).
+// included): the weight crushed below kProbeCrushThreshold, times trilinear; (irradiance x
+// weight, weight).
 vec4 probeCornerContribution(ProbeFrame f, ProbeCage cage, uint corner, vec3 n, float w) {
-  w = probeCrushWeight(max(w, 1e-6f), 0.2f);
+  w = probeCrushWeight(max(w, 1e-6f), kProbeCrushThreshold);
   w *= probeTrilinearWeight(cage.alpha, corner);
   vec3 e = probeSampleIrradiance(probeCageProbe(f, cage, corner), n,
                                  PROBE_VOLUME(cage.cascade).blend.w);
