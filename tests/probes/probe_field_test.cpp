@@ -30,6 +30,15 @@ ProbeFieldSettings bunnyFieldSettings() {
   return s;
 }
 
+// Depth texels whose mean depth agrees within 1e-3 (relative above 1 voxel).
+template <class Cpu, class Gpu>
+std::size_t depthTexelsWithin(const Cpu& cpu, const Gpu& gpu) {
+  std::size_t close = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i)
+    close += std::abs(cpu[i].x - gpu[i].x) <= 1e-3f * std::max(1.0f, std::abs(cpu[i].x));
+  return close;
+}
+
 // Four frames of the GPU and CPU fields around the bunny's camera: sun + sky.
 void warmBunnyField(test::GiHarness& h, const test::StreamedBunny& b,
                     const CascadeStackImage& img) {
@@ -75,13 +84,7 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   EXPECT_LE(irr, 1e-2f);
   EXPECT_LE(depth, 1e-1f);
   EXPECT_LE(data, 1e-5f);
-  {
-    const auto c = cpu.depth();
-    std::size_t close = 0;
-    for (std::size_t i = 0; i < c.size(); ++i)
-      close += std::abs(c[i].x - gDepth[i].x) <= 1e-3f * std::max(1.0f, std::abs(c[i].x));
-    EXPECT_GE(double(close), 0.99 * double(c.size()));
-  }
+  EXPECT_GE(double(depthTexelsWithin(cpu.depth(), gDepth)), 0.99 * double(gDepth.size()));
   EXPECT_EQ(cs.probesUpdated, gs.probesUpdated);
   EXPECT_EQ(cs.raysTraced, gs.raysTraced);
   EXPECT_EQ(cs.raysCached, gs.raysCached);
@@ -132,9 +135,7 @@ TEST_F(ProbeFieldTest, BlendOverSeveralRayChunksMatchesCpu) {
   const float irr =
       test::worstRelative<glm::vec4, 4>(cpu.irradiance(), h.gpuField->downloadIrradiance(), 1e-3f);
   const auto c = cpu.depth();
-  std::size_t close = 0;
-  for (std::size_t i = 0; i < c.size(); ++i)
-    close += std::abs(c[i].x - gDepth[i].x) <= 1e-3f * std::max(1.0f, std::abs(c[i].x));
+  const std::size_t close = depthTexelsWithin(c, gDepth);
   std::printf(
       "[figures] 160 rays a probe, GPU vs CPU: max rel diff irradiance %.2e, depth texels within "
       "1e-3: %zu of %zu\n",
