@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include "core/stopwatch.h"
@@ -95,98 +92,56 @@ void wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtC
   hi = glm::max(b, centre + reach);
 }
 
-// Sets the wake bit of sub-cell (x, y, z) (cascade sub-cell coordinates, 0..63) in its region.
-inline void setWakeRow(gs::ObjectRegionGpu* regions, int rx, int y, int z, std::uint32_t row) {
-  gs::ObjectRegionGpu& region = regions[rx + 8 * (y / 8 + 8 * (z / 8))];
-  const int sy = y % 8, sz = z % 8;
-  region.wake[sy / 4 + 2 * sz] |= row << (8 * (sy % 4));
+// A cascade's wake sub-cells as 64 x 64 rows of 64 bits (bit x of row y + 64 z): a box sets a
+// contiguous run of bits in each row it spans, one OR each, so the cost is the (y, z) rows the
+// boxes span, whatever their width in x.
+constexpr int kSubCells = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
+static_assert(kSubCells == 64, "a row of sub-cells is one 64-bit word");
+using WakeRows = std::vector<std::uint64_t>;  // kSubCells^2 rows
+
+void markWakeRange(const ObjectFrameData::SubCellRange& r, WakeRows& rows) {
+  if (r.empty()) return;
+  const std::uint64_t bits = (~std::uint64_t(0) >> (63 - r.hi.x)) & (~std::uint64_t(0) << r.lo.x);
+  for (int z = r.lo.z; z <= r.hi.z; ++z)
+    for (int y = r.lo.y; y <= r.hi.y; ++y) rows[std::size_t(y + kSubCells * z)] |= bits;
 }
 
-// Rows of 8 sub-cells a range spans (the cost of marking it row by row).
-std::uint64_t wakeRows(const ObjectFrameData::SubCellRange& r) {
-  if (r.empty()) return 0;
-  return std::uint64_t(r.hi.z - r.lo.z + 1) * std::uint64_t(r.hi.y - r.lo.y + 1) *
-         std::uint64_t(r.hi.x / 8 - r.lo.x / 8 + 1);
-}
-
-// Row by row, parallel over the slabs of regions along z: each task owns its regions, so no
-// atomics. Cost: the rows the boxes span, so for a few boxes.
-void markWakeRowsInSlab(std::uint32_t c, int slab, std::uint32_t cascades,
-                        const ObjectFrameData& in, gs::ObjectRegionGpu* regions) {
-  const int zLo = slab * int(gs::kSubCellsPerAxis);
-  const int zHi = zLo + int(gs::kSubCellsPerAxis) - 1;
-  for (std::size_t k = 0; k < in.changedBoxes.size(); ++k) {
-    const ObjectFrameData::SubCellRange& r = in.wakeRanges[k * cascades + c];
-    if (r.empty()) continue;
-    const int z0 = std::max(r.lo.z, zLo), z1 = std::min(r.hi.z, zHi);
-    for (int z = z0; z <= z1; ++z)
-      for (int y = r.lo.y; y <= r.hi.y; ++y)
-        for (int rx = r.lo.x / 8; rx <= r.hi.x / 8; ++rx) {
-          const int x0 = std::max(r.lo.x - rx * 8, 0), x1 = std::min(r.hi.x - rx * 8, 7);
-          setWakeRow(regions, rx, y, z, ((2u << x1) - 1u) & ~((1u << x0) - 1u));
-        }
+// The rows into the regions' wake words (region.wake[sy / 4 + 2 sz], byte sy % 4 = the row of
+// 8 sub-cells at (sy, sz) in the region), and each region's moved flag.
+std::uint32_t wakeRowsToRegions(const WakeRows& rows, gs::ObjectRegionGpu* regions) {
+  std::uint32_t moved = 0;
+  for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) {
+    gs::ObjectRegionGpu& region = regions[r];
+    const int rx = int(r % 8), ry = int(r / 8 % 8), rz = int(r / 64);
+    std::uint32_t any = 0;
+    for (int sz = 0; sz < 8; ++sz)
+      for (int sy = 0; sy < 8; ++sy) {
+        const std::uint64_t row = rows[std::size_t(ry * 8 + sy + kSubCells * (rz * 8 + sz))];
+        const std::uint32_t byte = std::uint32_t(row >> (8 * rx)) & 0xFFu;
+        region.wake[sy / 4 + 2 * sz] |= byte << (8 * (sy % 4));
+        any |= byte;
+      }
+    region.moved = any != 0u ? 1u : 0u;
+    moved += region.moved;
   }
-}
-
-// Through a grid of counts: each box adds +-1 at the 8 corners of its range (inclusion-exclusion),
-// three prefix sums turn that into the number of boxes covering each sub-cell, and the covered
-// ones become wake bits. Cost: 8 updates a box plus 3 passes over the cascade's 64^3 sub-cells,
-// whatever the boxes' sizes (10,000 moving objects span ~5 x 10^5 rows).
-void markWakeGrid(std::uint32_t c, std::uint32_t cascades, ObjectFrameData& out,
-                  gs::ObjectRegionGpu* regions) {
-  constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
-  std::vector<std::int32_t>& grid = out.wakeGrids[c];
-  grid.assign(std::size_t(kSubs) * kSubs * kSubs, 0);
-  const auto at = [](int x, int y, int z) { return std::size_t(x + kSubs * (y + kSubs * z)); };
-  for (std::size_t k = 0; k < out.changedBoxes.size(); ++k) {
-    const ObjectFrameData::SubCellRange& r = out.wakeRanges[k * cascades + c];
-    if (r.empty()) continue;
-    const glm::ivec3 corner[2] = {r.lo, r.hi + 1};
-    for (int n = 0; n < 8; ++n) {
-      const int x = corner[n & 1].x, y = corner[(n >> 1) & 1].y, z = corner[n >> 2].z;
-      if (x >= kSubs || y >= kSubs || z >= kSubs) continue;  // past the grid: sums never reach it
-      grid[at(x, y, z)] += (std::popcount(unsigned(n)) & 1) ? -1 : 1;
-    }
-  }
-  tbb::parallel_for(0, kSubs, [&](int z) {  // along x, then y, within each z plane
-    for (int y = 0; y < kSubs; ++y)
-      for (int x = 1; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x - 1, y, z)];
-    for (int y = 1; y < kSubs; ++y)
-      for (int x = 0; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x, y - 1, z)];
-  });
-  tbb::parallel_for(0, kSubs, [&](int y) {  // along z, then the bits of this row of sub-cells
-    for (int z = 1; z < kSubs; ++z)
-      for (int x = 0; x < kSubs; ++x) grid[at(x, y, z)] += grid[at(x, y, z - 1)];
-  });
-  tbb::parallel_for(0, int(gs::kRegionsPerAxis), [&](int slab) {  // each task owns its regions
-    for (int z = slab * 8; z < slab * 8 + 8; ++z)
-      for (int y = 0; y < kSubs; ++y)
-        for (int rx = 0; rx < int(gs::kRegionsPerAxis); ++rx) {
-          std::uint32_t row = 0;
-          for (int x = 0; x < 8; ++x) row |= grid[at(rx * 8 + x, y, z)] > 0 ? 1u << x : 0u;
-          if (row) setWakeRow(regions, rx, y, z, row);
-        }
-  });
+  return moved;
 }
 
 // Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
-// touches. Each box's sub-cell range per cascade is computed once, in parallel; then per cascade
-// the cheaper of marking rows (few or small boxes) and a grid of counts (many).
+// touches. Per cascade, the boxes' sub-cell ranges are ORed into rows in parallel chunks of
+// boxes (each chunk its own 32 KiB of rows, merged after), then spread into the regions.
 void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
                       ObjectFrameData& out) {
   using Range = ObjectFrameData::SubCellRange;
-  constexpr int kSubs = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 64 per axis
   const std::size_t boxes = out.changedBoxes.size();
   out.movedRegions = 0;
   if (boxes == 0 || cascades == 0) return;
   const float invSqrtChange =
       1.0f / std::sqrt(std::clamp(settings.wakeIrradianceChange, 1e-4f, 1.0f));
   out.wakeRanges.resize(boxes * cascades);
-  std::array<std::atomic<std::uint64_t>, gs::kMaxRegionCascades> rows{};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes, 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::array<std::uint64_t, gs::kMaxRegionCascades> local{};
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
                         glm::vec3 lo, hi;
                         wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
@@ -197,50 +152,32 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                           const glm::vec3 b = (hi - glm::vec3(ro)) * inv;
                           Range& r = out.wakeRanges[k * cascades + c];
                           r.lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
-                          r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubs - 1));
+                          r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubCells - 1));
                           if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
-                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubs)))))
+                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubCells)))))
                             r.hi = glm::ivec3(-1);
-                          local[c] += wakeRows(r);
                         }
                       }
-                      for (std::uint32_t c = 0; c < cascades; ++c) rows[c] += local[c];
                     });
-  // Both ways set the same bits; the grid's fixed cost pays off from wakeGridFromRows rows.
-  std::vector<int> rowTasks;  // (cascade, slab) pairs marked row by row
-  std::vector<std::uint32_t> gridCascades;
-  for (std::uint32_t c = 0; c < cascades; ++c) {
-    if (rows[c] == 0) continue;
-    if (rows[c] >= settings.wakeGridFromRows) {
-      gridCascades.push_back(c);
-      if (out.wakeGrids.size() <= c) out.wakeGrids.resize(c + 1);
-    } else {
-      for (int slab = 0; slab < int(gs::kRegionsPerAxis); ++slab)
-        rowTasks.push_back(int(c) * int(gs::kRegionsPerAxis) + slab);
-    }
-  }
-  tbb::parallel_invoke(
-      [&] {
-        tbb::parallel_for(std::size_t(0), rowTasks.size(), [&](std::size_t t) {
-          const std::uint32_t c = std::uint32_t(rowTasks[t]) / gs::kRegionsPerAxis;
-          markWakeRowsInSlab(c, rowTasks[t] % int(gs::kRegionsPerAxis), cascades, out,
-                             out.regions.data() + c * gs::kRegionsPerCascade);
+  std::array<std::uint32_t, gs::kMaxRegionCascades> moved{};
+  tbb::parallel_for(std::uint32_t(0), cascades, [&](std::uint32_t c) {
+    const WakeRows rows = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, boxes, 1024), WakeRows(),
+        [&](const tbb::blocked_range<std::size_t>& range, WakeRows local) {
+          if (local.empty()) local.assign(std::size_t(kSubCells) * kSubCells, 0);
+          for (std::size_t k = range.begin(); k != range.end(); ++k)
+            markWakeRange(out.wakeRanges[k * cascades + c], local);
+          return local;
+        },
+        [](WakeRows a, const WakeRows& b) {
+          if (a.empty()) return b;
+          for (std::size_t i = 0; i < b.size(); ++i) a[i] |= b[i];
+          return a;
         });
-      },
-      [&] {
-        tbb::parallel_for(std::size_t(0), gridCascades.size(), [&](std::size_t i) {
-          const std::uint32_t c = gridCascades[i];
-          markWakeGrid(c, cascades, out, out.regions.data() + c * gs::kRegionsPerCascade);
-        });
-      });
-  std::uint32_t moved = 0;
-  for (gs::ObjectRegionGpu& region : out.regions) {
-    std::uint32_t any = 0;
-    for (std::uint32_t w : region.wake) any |= w;
-    region.moved = any != 0u ? 1u : 0u;
-    moved += region.moved;
-  }
-  out.movedRegions = moved;
+    if (!rows.empty())
+      moved[c] = wakeRowsToRegions(rows, out.regions.data() + c * gs::kRegionsPerCascade);
+  });
+  for (std::uint32_t c = 0; c < cascades; ++c) out.movedRegions += moved[c];
 }
 }  // namespace
 

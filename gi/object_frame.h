@@ -31,11 +31,6 @@ struct ObjectSceneSettings {
   // The default is the probe field's sleep threshold: a change below it would not keep a probe
   // awake either. 1 wakes only probes inside the changed boxes; clamped to [1e-4, 1].
   float wakeIrradianceChange = 0.05f;
-  // How the wake bits are marked in a cascade (the same bits either way): row by row of sub-cells
-  // while the cascade's wake boxes span fewer rows than this, else through a grid of counts per
-  // sub-cell, whose fixed cost (three passes over the cascade's 64^3 sub-cells) is about that of
-  // marking this many rows. 0: always the grid.
-  std::uint64_t wakeGridFromRows = 3 * 64 * 64 * 8;
   // Probe rays test every instance instead of walking the regions: the naive peer of the stress
   // benchmark (the regions are still built, so their cost is measured either way).
   bool naiveTraversal = false;
@@ -92,7 +87,6 @@ struct ObjectFrameData {
     bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
   };
   std::vector<SubCellRange> wakeRanges;
-  std::vector<std::vector<std::int32_t>> wakeGrids;  // scratch: per cascade, 64^3 counts
   // CPU time of the build's parts (milliseconds; the frame's host-time breakdown).
   double instancesMs = 0.0;  // the instances into stack space and what the frame sums over them
   double wakeMs = 0.0;       // changedBoxes and the wake bits

@@ -5,12 +5,16 @@
 // sun every box's shadow is found at once through a page-resolution shadow map per cascade (the
 // changed boxes' nearest depth per light-space cell), which each of the cascade's 4,096 pages then
 // looks up: O(boxes + pages) per cascade and sun. Point and spot lights, whose shadows diverge,
-// sweep each box away from the light in segments. Cascades are independent and run in parallel.
+// sweep each box away from the light in segments. Cascades are independent and run in parallel,
+// and so do chunks of boxes within a cascade.
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include "gi/light_cache.h"
 #include "shaders/shared/sdf_layout.h"
@@ -23,6 +27,9 @@ constexpr int kPagesPerAxis = 16;  // a cascade is 16³ pages of 8³ voxels
 // Shadow-map cells per page edge: finer cells follow a shadow's outline more closely (fewer
 // pages relit for nothing) at 4x the cells per doubling.
 constexpr float kShadowCellsPerPage = 4.0f;
+constexpr int kCellsPerAxis = kPagesPerAxis * int(kShadowCellsPerPage);
+// Boxes per parallel task: each task keeps its own cell bits or shadow map, merged after.
+constexpr std::size_t kBoxesPerTask = 1024;
 
 struct Box {
   glm::vec3 lo, hi;
@@ -53,7 +60,11 @@ struct CascadePages {
            16u * (((std::uint32_t(p.y) + toroidal.y) & 15u) +
                   16u * ((std::uint32_t(p.z) + toroidal.z) & 15u));
   }
-  void markPage(glm::ivec3 p) const { marked[entry(p)] = 1; }
+  // Tasks of one cascade mark pages concurrently: a relaxed store per mark (the value is all
+  // that matters, read after the tasks join).
+  void markPage(glm::ivec3 p) const {
+    std::atomic_ref<std::uint8_t>(marked[entry(p)]).store(1, std::memory_order_relaxed);
+  }
   bool resident(glm::ivec3 p) const { return (pageTable[entry(p)] & gs::kPageResidentBit) != 0; }
   // Every page the box overlaps (faces included).
   void markBox(const Box& b) const {
@@ -74,39 +85,65 @@ struct CascadePages {
 // to the cells (a quarter page each, inside one page) it touches, and each such cell is kept
 // once; larger boxes and boxes outside the window stay as they are. Growing a box only adds
 // shadow, so this stays conservative, and in coarse cascades thousands of small objects share a
-// few hundred cells.
+// few hundred cells. Parallel over chunks of boxes, each with its own cell bits, ORed after.
+struct Casters {
+  std::vector<std::uint64_t> cells;  // kCellsPerAxis^3 bits (x fastest), empty: none
+  std::vector<Box> boxes;            // kept as they are
+};
+
 std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<const Box> boxes) {
-  constexpr int kCells = kPagesPerAxis * int(kShadowCellsPerPage);  // per axis
   const float cell = pages.edge / kShadowCellsPerPage;
-  std::vector<std::uint64_t> seen(std::size_t(kCells) * kCells * kCells / 64, 0);
-  std::vector<Box> out;
-  auto keep = [&](glm::ivec3 c) {
-    const std::size_t bit =
-        std::size_t(c.x) + std::size_t(kCells) * (c.y + std::size_t(kCells) * c.z);
-    std::uint64_t& word = seen[bit / 64];
-    const std::uint64_t mask = std::uint64_t(1) << (bit % 64);
-    if (word & mask) return;
-    word |= mask;
-    pages.markPage(c / int(kShadowCellsPerPage));
-    const glm::vec3 lo = pages.origin + glm::vec3(c) * cell;
-    out.push_back({lo, lo + glm::vec3(cell)});
-  };
-  for (const Box& b : boxes) {
-    const glm::vec3 lo = (b.lo - pages.origin) / cell, hi = (b.hi - pages.origin) / cell;
-    const bool small = glm::all(glm::lessThanEqual(hi - lo, glm::vec3(0.5f)));
-    const bool inside = glm::all(glm::greaterThanEqual(lo, glm::vec3(0.0f))) &&
-                        glm::all(glm::lessThan(hi, glm::vec3(float(kCells))));
-    if (!small || !inside) {
-      pages.markBox(b);
-      out.push_back(b);
-      continue;
+  const float invCell = 1.0f / cell;
+  constexpr std::size_t kCellWords =
+      std::size_t(kCellsPerAxis) * kCellsPerAxis * kCellsPerAxis / 64;
+  Casters all = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask), Casters(),
+      [&](const tbb::blocked_range<std::size_t>& range, Casters local) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const Box& b = boxes[i];
+          const glm::vec3 lo = (b.lo - pages.origin) * invCell,
+                          hi = (b.hi - pages.origin) * invCell;
+          const bool small = glm::all(glm::lessThanEqual(hi - lo, glm::vec3(0.5f)));
+          const bool inside = glm::all(glm::greaterThanEqual(lo, glm::vec3(0.0f))) &&
+                              glm::all(glm::lessThan(hi, glm::vec3(float(kCellsPerAxis))));
+          if (!small || !inside) {
+            pages.markBox(b);
+            local.boxes.push_back(b);
+            continue;
+          }
+          if (local.cells.empty()) local.cells.assign(kCellWords, 0);
+          // A box ending exactly on a cell face stays in the cell below it (cells are closed).
+          const glm::ivec3 a(glm::floor(lo)), z = glm::max(a, glm::ivec3(glm::ceil(hi)) - 1);
+          for (int cz = a.z; cz <= z.z; ++cz)
+            for (int cy = a.y; cy <= z.y; ++cy)
+              for (int cx = a.x; cx <= z.x; ++cx) {
+                const std::size_t bit =
+                    std::size_t(cx) +
+                    std::size_t(kCellsPerAxis) * (cy + std::size_t(kCellsPerAxis) * cz);
+                local.cells[bit / 64] |= std::uint64_t(1) << (bit % 64);
+              }
+        }
+        return local;
+      },
+      [](Casters x, Casters y) {
+        if (x.cells.empty()) {
+          x.cells = std::move(y.cells);
+        } else if (!y.cells.empty()) {
+          for (std::size_t w = 0; w < x.cells.size(); ++w) x.cells[w] |= y.cells[w];
+        }
+        x.boxes.insert(x.boxes.end(), y.boxes.begin(), y.boxes.end());
+        return x;
+      });
+  std::vector<Box> out = std::move(all.boxes);
+  for (std::size_t w = 0; w < all.cells.size(); ++w)
+    for (std::uint64_t bits = all.cells[w]; bits != 0; bits &= bits - 1) {
+      const int bit = int(w * 64) + std::countr_zero(bits);
+      const glm::ivec3 c(bit % kCellsPerAxis, bit / kCellsPerAxis % kCellsPerAxis,
+                         bit / (kCellsPerAxis * kCellsPerAxis));
+      pages.markPage(c / int(kShadowCellsPerPage));
+      const glm::vec3 lo = pages.origin + glm::vec3(c) * cell;
+      out.push_back({lo, lo + glm::vec3(cell)});
     }
-    // A box ending exactly on a cell face stays in the cell below it (cells are closed).
-    const glm::ivec3 a(glm::floor(lo)), z = glm::max(a, glm::ivec3(glm::ceil(hi)) - 1);
-    for (int cz = a.z; cz <= z.z; ++cz)
-      for (int cy = a.y; cy <= z.y; ++cy)
-        for (int cx = a.x; cx <= z.x; ++cx) keep({cx, cy, cz});
-  }
   return out;
 }
 
@@ -139,7 +176,6 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
   const float cell = pages.edge / kShadowCellsPerPage;
   const glm::ivec2 cells =
       glm::max(glm::ivec2(glm::ceil((cascade.hi - cascade.lo) / cell)), glm::ivec2(1));
-  std::vector<float> nearest(std::size_t(cells.x) * std::size_t(cells.y), 1e30f);
   // Inclusive cell range of a footprint; false when it misses the map.
   auto cellRange = [&](const Footprint& f, glm::ivec2& a, glm::ivec2& z) {
     if (f.hi.x < cascade.lo.x || f.hi.y < cascade.lo.y || f.lo.x > cascade.hi.x ||
@@ -149,20 +185,33 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
     z = glm::clamp(glm::ivec2(glm::floor((f.hi - cascade.lo) / cell)), glm::ivec2(0), cells - 1);
     return true;
   };
-  bool any = false;
-  for (const Box& b : boxes) {
-    const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
-    glm::ivec2 a, z;
-    // A box past the cascade's far side shadows nothing of it.
-    if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
-    any = true;
-    for (int y = a.y; y <= z.y; ++y)
-      for (int x = a.x; x <= z.x; ++x) {
-        float& d = nearest[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
-        d = std::min(d, f.nearDepth);
-      }
-  }
-  if (!any) return;
+  // Parallel over chunks of boxes, each with its own map (empty until a box lands), merged by
+  // the minimum.
+  const std::size_t mapCells = std::size_t(cells.x) * std::size_t(cells.y);
+  const std::vector<float> nearest = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask), std::vector<float>(),
+      [&](const tbb::blocked_range<std::size_t>& range, std::vector<float> local) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const Box& b = boxes[i];
+          const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
+          glm::ivec2 a, z;
+          // A box past the cascade's far side shadows nothing of it.
+          if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
+          if (local.empty()) local.assign(mapCells, 1e30f);
+          for (int y = a.y; y <= z.y; ++y)
+            for (int x = a.x; x <= z.x; ++x) {
+              float& d = local[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
+              d = std::min(d, f.nearDepth);
+            }
+        }
+        return local;
+      },
+      [](std::vector<float> x, std::vector<float> y) {
+        if (x.empty()) return y;
+        for (std::size_t i = 0; i < y.size(); ++i) x[i] = std::min(x[i], y[i]);
+        return x;
+      });
+  if (nearest.empty()) return;
   // Only resident pages can be relit, so only they are looked up; slabs of pages in parallel
   // (each page's mark is its own byte).
   const glm::vec3 pageHalf(0.5f * pages.edge);
@@ -208,20 +257,24 @@ Box pointShadowSegment(const Box& b, glm::vec3 lightPos, float s0, float s1) {
 void markPointShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 lightPos,
                       float reach) {
   const Box window{pages.origin, pages.origin + glm::vec3(float(kPagesPerAxis) * pages.edge)};
-  for (const Box& b : boxes) {
-    if (contains(b, lightPos)) {
-      pages.markBox(window);
-      return;
-    }
-    for (float s0 = 0.0f; s0 < reach;) {
-      const float s1 = std::min(reach, s0 + std::max(pages.edge, 0.25f * s0));
-      const Box seg = pointShadowSegment(b, lightPos, s0, s1);
-      if (glm::all(glm::lessThanEqual(seg.lo, window.hi)) &&
-          glm::all(glm::greaterThanEqual(seg.hi, window.lo)))
-        pages.markBox(seg);
-      s0 = s1;
-    }
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask / 4),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Box& b = boxes[i];
+                        if (contains(b, lightPos)) {
+                          pages.markBox(window);
+                          continue;
+                        }
+                        for (float s0 = 0.0f; s0 < reach;) {
+                          const float s1 = std::min(reach, s0 + std::max(pages.edge, 0.25f * s0));
+                          const Box seg = pointShadowSegment(b, lightPos, s0, s1);
+                          if (glm::all(glm::lessThanEqual(seg.lo, window.hi)) &&
+                              glm::all(glm::greaterThanEqual(seg.hi, window.lo)))
+                            pages.markBox(seg);
+                          s0 = s1;
+                        }
+                      }
+                    });
 }
 }  // namespace
 
@@ -247,8 +300,9 @@ std::vector<std::uint32_t> objectShadowPages(const CascadeStackImage& stack,
     grids.push_back({glm::vec3(p.offsetScale), 8.0f * p.offsetScale.w, glm::uvec3(p.toroidal),
                      &marked[c * gs::kCascadePageCount], &stack.pageTables[p.toroidal.w]});
   }
-  // Cascades are independent; inside one, the shadow map's page lookups run in parallel too
-  // (cascade 0 holds most of the boxes, so splitting by cascade alone leaves cores idle).
+  // Cascades are independent; inside one, the boxes (gathering casters, building the shadow map,
+  // sweeping from point lights) and the shadow map's page lookups run in parallel too: splitting
+  // by cascade alone leaves all but 4 cores idle and one cascade's boxes on a single core.
   tbb::parallel_for(std::size_t(0), cascades, [&](std::size_t c) {
     const std::vector<Box> casters = markBoxesAndGatherCasters(grids[c], boxes);
     for (const gs::GpuLight& l : lights) {

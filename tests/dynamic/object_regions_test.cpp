@@ -163,6 +163,69 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   EXPECT_EQ(unoccupied, 0u);
 }
 
+// Each change's wake box in stack space, written out here from the rule in ObjectSceneSettings:
+// the changed box and the cube of half-edge r / sqrt(wakeIrradianceChange) around its centre.
+struct WakeBoxes {
+  std::vector<glm::vec3> lo, hi, centre;
+  std::vector<float> reach;
+};
+WakeBoxes wakeBoxes(const CascadeStackImage& stack, const std::vector<WorldBox>& changed,
+                    float wakeIrradianceChange) {
+  WakeBoxes w;
+  for (const WorldBox& b : changed) {
+    const glm::vec3 a = stack.toStack(b.min), z = stack.toStack(b.max);
+    const glm::vec3 centre = 0.5f * (a + z);
+    const float reach = 0.5f * glm::length(z - a) / std::sqrt(wakeIrradianceChange);
+    w.lo.push_back(glm::min(a, centre - reach));
+    w.hi.push_back(glm::max(z, centre + reach));
+    w.centre.push_back(centre);
+    w.reach.push_back(reach);
+  }
+  return w;
+}
+
+// The wake bits brute force would set: per box, every sub-cell of every region cascade within a
+// sub-cell of its wake box tested against it (a closed box against the half-open cell). Returns
+// the words that differ from `regions` (wake words and moved flags); counts the bits it sets.
+std::size_t wakeWordsDifferingFromBruteForce(const gs::ObjectFrameGpu& frame, const WakeBoxes& w,
+                                             std::span<const gs::ObjectRegionGpu> regions,
+                                             std::size_t& bitsSet) {
+  const std::uint32_t cascades = frame.counts.y;
+  std::vector<gs::ObjectRegionGpu> want(std::size_t(cascades) * gs::kRegionsPerCascade);
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    const glm::vec4 ro = frame.regionOrigin[c];
+    const float sub = ro.w / 8.0f;
+    for (std::size_t k = 0; k < w.lo.size(); ++k) {
+      const glm::ivec3 a =
+          glm::max(glm::ivec3(glm::floor((w.lo[k] - glm::vec3(ro)) / sub)) - 1, glm::ivec3(0));
+      const glm::ivec3 z =
+          glm::min(glm::ivec3(glm::floor((w.hi[k] - glm::vec3(ro)) / sub)) + 1, glm::ivec3(63));
+      for (int x = a.x; x <= z.x; ++x)
+        for (int y = a.y; y <= z.y; ++y)
+          for (int zz = a.z; zz <= z.z; ++zz) {
+            const glm::vec3 cLo = glm::vec3(ro) + glm::vec3(x, y, zz) * sub, cHi = cLo + sub;
+            if (!glm::all(glm::lessThanEqual(cLo, w.hi[k])) ||
+                !glm::all(glm::lessThan(w.lo[k], cHi)))
+              continue;
+            gs::ObjectRegionGpu& r =
+                want[c * gs::kRegionsPerCascade + x / 8 + 8 * (y / 8 + 8 * (zz / 8))];
+            r.wake[y % 8 / 4 + 2 * (zz % 8)] |= 1u << (8 * (y % 8 % 4) + x % 8);
+            r.moved = 1;
+          }
+    }
+  }
+  std::size_t differ = 0;
+  bitsSet = 0;
+  for (std::size_t r = 0; r < want.size(); ++r) {
+    differ += want[r].moved != regions[r].moved ? 1 : 0;
+    for (std::uint32_t i = 0; i < gs::kOccupancyWords; ++i) {
+      differ += want[r].wake[i] != regions[r].wake[i] ? 1 : 0;
+      bitsSet += std::size_t(std::popcount(want[r].wake[i]));
+    }
+  }
+  return differ;
+}
+
 // The wake bits against a brute-force computation (every sub-cell of every region cascade
 // against every change's wake box, written out here from the rule in ObjectSceneSettings), on
 // a frame with additions, moves and removals; and the rule itself: every point within
@@ -205,48 +268,17 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   const std::vector<WorldBox> changed = objects.instances.changedBounds(objects.library);
   ASSERT_GT(changed.size(), 30u);
 
-  struct Sphere {
-    glm::vec3 centre;
-    float radius;
-  };
-  std::vector<glm::vec3> lo, hi;
-  std::vector<Sphere> mustWake;
-  for (const WorldBox& b : changed) {
-    const glm::vec3 a = stack.toStack(b.min), z = stack.toStack(b.max);
-    const glm::vec3 centre = 0.5f * (a + z);
-    const float reach = 0.5f * glm::length(z - a) / std::sqrt(settings.wakeIrradianceChange);
-    lo.push_back(glm::min(a, centre - reach));
-    hi.push_back(glm::max(z, centre + reach));
-    mustWake.push_back({centre, reach});
-  }
-  std::size_t differ = 0, set = 0;
-  for (std::uint32_t c = 0; c < frame.frame.counts.y; ++c) {
-    const glm::vec4 ro = frame.frame.regionOrigin[c];
-    const float sub = ro.w / 8.0f;
-    for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r)
-      for (std::uint32_t bit = 0; bit < 512; ++bit) {
-        const glm::vec3 cell(r % 8 * 8 + bit % 8, (r / 8) % 8 * 8 + (bit / 8) % 8,
-                             r / 64 * 8 + bit / 64);
-        const glm::vec3 cLo = glm::vec3(ro) + cell * sub, cHi = cLo + sub;
-        bool want = false;
-        for (std::size_t k = 0; k < lo.size() && !want; ++k)
-          want = glm::all(glm::lessThanEqual(cLo, hi[k])) && glm::all(glm::lessThan(lo[k], cHi));
-        const std::uint32_t y = bit / 8 % 8, zz = bit / 64;
-        const bool got = (regions[c * gs::kRegionsPerCascade + r].wake[y / 4 + 2 * zz] >>
-                          (8 * (y % 4) + bit % 8)) &
-                         1u;
-        differ += want != got ? 1 : 0;
-        set += got ? 1 : 0;
-      }
-  }
+  const WakeBoxes w = wakeBoxes(stack, changed, settings.wakeIrradianceChange);
+  std::size_t set = 0;
+  const std::size_t differ = wakeWordsDifferingFromBruteForce(frame.frame, w, regions, set);
   // The rule: points within each change's wake distance wake in every cascade that holds them;
   // points far from every change wake nowhere.
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
   std::size_t inside = 0, missed = 0, far = 0, falseWakes = 0;
-  for (const Sphere& s : mustWake)
+  for (std::size_t j = 0; j < w.centre.size(); ++j)
     for (int k = 0; k < 16; ++k) {
       glm::vec3 d(unit(rng), unit(rng), unit(rng));
-      const glm::vec3 p = s.centre + d * (s.radius / 1.8f);  // |d| <= sqrt(3) < 1.8
+      const glm::vec3 p = w.centre[j] + d * (w.reach[j] / 1.8f);  // |d| <= sqrt(3) < 1.8
       for (std::uint32_t c = 0; c < frame.frame.counts.y; ++c) {
         const glm::vec4 ro = frame.frame.regionOrigin[c];
         const glm::vec3 q = (p - glm::vec3(ro)) / ro.w;
@@ -260,26 +292,16 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   for (int k = 0; k < 4000; ++k) {
     const glm::vec3 p = glm::vec3(64.0f) + 64.0f * glm::vec3(unit(rng), unit(rng), unit(rng));
     bool nearAny = false;
-    for (std::size_t j = 0; j < lo.size() && !nearAny; ++j)
-      nearAny =
-          glm::all(glm::greaterThan(p, lo[j] - 4.0f)) && glm::all(glm::lessThan(p, hi[j] + 4.0f));
+    for (std::size_t j = 0; j < w.lo.size() && !nearAny; ++j)
+      nearAny = glm::all(glm::greaterThan(p, w.lo[j] - 4.0f)) &&
+                glm::all(glm::lessThan(p, w.hi[j] + 4.0f));
     if (nearAny) continue;
     ++far;
     falseWakes += cpu.wakes(p, 0) ? 1 : 0;
   }
-  // The same frame's bits through the grid of counts (forced for every cascade) are the same.
-  ObjectSceneSettings gridSettings = settings;
-  gridSettings.wakeGridFromRows = 0;
-  const ObjectSceneCpu grid(objects.library, objects.instances, stack, gridSettings);
-  std::size_t gridDiffer = 0;
-  for (std::size_t r = 0; r < frame.regions.size(); ++r) {
-    gridDiffer += grid.frame().regions[r].moved != frame.regions[r].moved ? 1 : 0;
-    for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w)
-      gridDiffer += grid.frame().regions[r].wake[w] != frame.regions[r].wake[w] ? 1 : 0;
-  }
-  EXPECT_EQ(gridDiffer, 0u);
   std::printf(
-      "[figures] %zu changes: %zu wake sub-cells set, %zu differ from brute force; %zu points "
+      "[figures] %zu changes: %zu wake sub-cells set, %zu words differ from brute force; %zu "
+      "points "
       "within wake distance, %zu not woken; %zu points far from every change, %zu woken\n",
       changed.size(), set, differ, inside, missed, far, falseWakes);
   EXPECT_EQ(differ, 0u);
@@ -291,9 +313,9 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
 }
 
 // Thousands of changes of every size (0.05-4 m; a tenth spread over 240 m, far outside cascade
-// 0) through both ways of marking: the grid of counts that many changes take and the
-// rows that few take (checked against brute force above) set the same bits in every cascade.
-TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
+// 0): the bits, built from rows merged across parallel chunks of boxes, equal brute force in
+// every cascade, and the moved-region count is the regions flagged.
+TEST(ObjectWakeBits, ManyChangesEqualBruteForce) {
   const CascadeStackImage stack = test::windowsOnlyStack(4);
   test::RandomObjects objects;
   std::mt19937 rng(11);
@@ -316,29 +338,23 @@ TEST(ObjectWakeBits, GridOfCountsEqualsRowsOnManyChanges) {
   }
   for (std::size_t k = 1; k < ids.size(); k += 9) objects.instances.remove(ids[k]);
 
-  ObjectSceneSettings rows, grid;
-  rows.wakeGridFromRows = ~std::uint64_t(0);
-  grid.wakeGridFromRows = 0;
-  const ObjectFrameData a = buildObjectFrame(objects.library, objects.instances, stack, rows);
-  const ObjectFrameData b = buildObjectFrame(objects.library, objects.instances, stack, grid);
-  ASSERT_EQ(a.regions.size(), b.regions.size());
-  std::size_t differ = 0, bits = 0;
-  for (std::size_t r = 0; r < a.regions.size(); ++r) {
-    differ += a.regions[r].moved != b.regions[r].moved ? 1 : 0;
-    for (std::uint32_t w = 0; w < gs::kOccupancyWords; ++w) {
-      differ += a.regions[r].wake[w] != b.regions[r].wake[w] ? 1 : 0;
-      bits += std::uint32_t(std::popcount(a.regions[r].wake[w]));
-    }
-  }
+  const ObjectSceneSettings settings;
+  const ObjectFrameData frame =
+      buildObjectFrame(objects.library, objects.instances, stack, settings);
+  const WakeBoxes w = wakeBoxes(stack, frame.changedBoxes, settings.wakeIrradianceChange);
+  std::size_t bits = 0;
+  const std::size_t differ = wakeWordsDifferingFromBruteForce(frame.frame, w, frame.regions, bits);
+  std::size_t moved = 0;
+  for (const gs::ObjectRegionGpu& r : frame.regions) moved += r.moved;
   std::printf(
-      "[figures] %zu changed boxes: %zu wake bits set, %zu words differ, %u vs %u moved "
-      "regions\n",
-      a.changedBoxes.size(), bits, differ, a.movedRegions, b.movedRegions);
-  EXPECT_GT(a.changedBoxes.size(), 1500u);
+      "[figures] %zu changed boxes: %zu wake bits set, %zu words differ from brute force; %u "
+      "moved regions\n",
+      frame.changedBoxes.size(), bits, differ, frame.movedRegions);
+  EXPECT_GT(frame.changedBoxes.size(), 1500u);
   EXPECT_GT(bits, 10000u);
-  EXPECT_LT(bits, a.regions.size() * 512);  // not everything: the far cascades' edges stay asleep
+  EXPECT_LT(bits, frame.regions.size() * 512);  // not everything: the far cascades' edges sleep
   EXPECT_EQ(differ, 0u);
-  EXPECT_EQ(a.movedRegions, b.movedRegions);
+  EXPECT_EQ(moved, frame.movedRegions);
 }
 
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {

@@ -127,6 +127,36 @@ TEST(ObjectShadowPages, CoverEveryPageTheSweptBoxesPassThrough) {
   EXPECT_LT(double(markedTotal), 2.0 * double(sweptTotal));
 }
 
+// Thousands of boxes at once are split into chunks marked in parallel and merged (cells ORed,
+// shadow maps by their minimum). A page is marked for a set of boxes exactly when it is marked
+// for one of them alone (each box's casters and shadow depths are its own), so the whole set
+// must mark the union of the pages each box marks by itself.
+TEST(ObjectShadowPages, ManyBoxesMarkTheUnionOfEachBoxAlone) {
+  const CascadeStackImage image = nestedStack();
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<float> pos(-120.0f, 250.0f), size(0.05f, 3.0f);
+  std::vector<WorldBox> boxes;
+  for (int i = 0; i < 2500; ++i) {
+    const glm::dvec3 lo(pos(rng), pos(rng) * 0.2f + 40.0f, pos(rng));
+    const float s = i % 10 == 0 ? 4.0f * size(rng) : 0.3f * size(rng);
+    boxes.push_back({lo, lo + glm::dvec3(s, 0.5 * s, s)});
+  }
+  const std::vector<gs::GpuLight> lights = {sun(glm::vec3(0.4f, 1.0f, -0.3f)),
+                                            point(glm::vec3(70.0f, 60.0f, 50.0f))};
+  const std::vector<std::uint32_t> all = objectShadowPages(image, boxes, lights);
+  std::set<std::uint32_t> alone;
+  for (const WorldBox& b : boxes) {
+    const std::vector<std::uint32_t> one =
+        objectShadowPages(image, std::vector<WorldBox>{b}, lights);
+    alone.insert(one.begin(), one.end());
+  }
+  std::printf("[figures] %zu boxes: %zu pages marked together, %zu by the boxes alone\n",
+              boxes.size(), all.size(), alone.size());
+  EXPECT_EQ(std::vector<std::uint32_t>(alone.begin(), alone.end()), all);
+  EXPECT_GT(all.size(), 1000u);
+  EXPECT_LT(all.size(), image.pageTables.size());  // not everything
+}
+
 TEST(ObjectShadowPages, AnUnshadowedLightAddsOnlyTheBoxesOwnPages) {
   const CascadeStackImage image = nestedStack();
   const std::vector<WorldBox> boxes = {{glm::dvec3(60.0), glm::dvec3(61.0)}};
