@@ -31,35 +31,37 @@ ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library) {
 gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshIndex,
                                       const glm::dmat4& worldFromObject,
                                       const CascadeStackImage& stack) {
-  // stack = (world - cascade0MinWorld) / voxelSize0; object = gridMin + voxel · grid.
+  // stack = (world - cascade0MinWorld) / voxelSize0; object = gridMin + voxel · grid. So
+  // stackFromGrid = [A | t]: A = worldFromObject's 3×3 part × voxel / voxelSize0 and
+  // t = (worldFromObject · gridMin - cascade0MinWorld) / voxelSize0.
   const double inv = 1.0 / stack.voxelSize0;
-  glm::dmat4 stackFromWorld(inv);
-  stackFromWorld[3] = glm::dvec4(-stack.cascade0MinWorld * inv, 1.0);
-  glm::dmat4 objectFromGrid(double(mesh.voxel));
-  objectFromGrid[3] = glm::dvec4(glm::dvec3(mesh.gridMin), 1.0);
-  const glm::dmat4 stackFromGrid = stackFromWorld * worldFromObject * objectFromGrid;
-  const glm::dmat4 gridFromStack = glm::inverse(stackFromGrid);
-
-  gs::ObjectInstanceGpu g{};
-  for (int r = 0; r < 3; ++r) {
-    g.stackFromGrid[r] = glm::vec4(stackFromGrid[0][r], stackFromGrid[1][r], stackFromGrid[2][r],
-                                   stackFromGrid[3][r]);
-    g.gridFromStack[r] = glm::vec4(gridFromStack[0][r], gridFromStack[1][r], gridFromStack[2][r],
-                                   gridFromStack[3][r]);
-  }
-  // Columns are orthogonal (rotation × diagonal scale), so the smallest singular value is the
-  // shortest column and the OBB's half axes are the columns times half the grid extent.
+  const glm::dvec3 translation =
+      (glm::dvec3(worldFromObject * glm::dvec4(glm::dvec3(mesh.gridMin), 1.0)) -
+       stack.cascade0MinWorld) *
+      inv;
+  std::array<glm::dvec3, 3> column;
+  for (int j = 0; j < 3; ++j)
+    column[j] = glm::dvec3(worldFromObject[j]) * (double(mesh.voxel) * inv);
+  // A's columns are orthogonal (rotation × diagonal scale), so its inverse is its transpose with
+  // row j divided by |column j|², and the inverse's translation follows: no general 4×4 inverse
+  // per instance per frame. The smallest singular value is the shortest column, and the OBB's
+  // half axes are the columns times half the grid extent.
   const glm::dvec3 hi = glm::dvec3(mesh.dims) - 1.0;
+  gs::ObjectInstanceGpu g{};
   double stepScale = 1e30, radius2 = 0.0;
+  glm::dvec3 centre = translation, reach(0.0);
   for (int j = 0; j < 3; ++j) {
-    const double len = glm::length(glm::dvec3(stackFromGrid[j]));
+    const double len2 = glm::dot(column[j], column[j]), len = std::sqrt(len2);
+    const glm::dvec3 row = column[j] / len2;  // row j of A's inverse
+    g.gridFromStack[j] = glm::vec4(glm::vec3(row), float(-glm::dot(row, translation)));
     stepScale = std::min(stepScale, len);
     radius2 += (len * hi[j] * 0.5) * (len * hi[j] * 0.5);
+    // The AABB of the grid box [0, hi]: centre ± |A|·half (its 8 corners' min and max).
+    centre += column[j] * (0.5 * hi[j]);
+    reach += glm::abs(column[j]) * (0.5 * hi[j]);
   }
-  // The AABB of the grid box [0, hi]: centre ± |M|·half (what its 8 corners' min and max are).
-  const glm::dvec3 centre(stackFromGrid * glm::dvec4(0.5 * hi, 1.0));
-  glm::dvec3 reach(0.0);
-  for (int j = 0; j < 3; ++j) reach += glm::abs(glm::dvec3(stackFromGrid[j])) * (0.5 * hi[j]);
+  for (int r = 0; r < 3; ++r)
+    g.stackFromGrid[r] = glm::vec4(column[0][r], column[1][r], column[2][r], translation[r]);
   g.boundsMin = glm::vec4(glm::vec3(centre - reach), float(stepScale));
   g.boundsMax = glm::vec4(glm::vec3(centre + reach), float(std::sqrt(radius2)));
   g.info = glm::uvec4(meshIndex, 0u, 0u, 0u);

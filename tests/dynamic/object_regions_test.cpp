@@ -357,6 +357,64 @@ TEST(ObjectWakeBits, ManyChangesEqualBruteForce) {
   EXPECT_EQ(moved, frame.movedRegions);
 }
 
+// instanceInStack inverts the instance's map from its columns' orthogonality; against the
+// general 4×4 products and inverse, on random rotations with non-uniform and mirrored scales
+// far from the origin, and its AABB against the 8 transformed corners of the grid box.
+TEST(InstanceInStack, EqualsTheGeneralMatrixProductsAndInverse) {
+  const CascadeStackImage stack = test::windowsOnlyStack(4);
+  test::RandomObjects objects;
+  const ObjectSdf& mesh = objects.library.mesh(objects.box);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worstMap = 0.0, worstInverse = 0.0, worstBounds = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    ObjectTransform pose;
+    pose.translation = glm::dvec3(3000.0 * u(rng), 50.0 * u(rng), 3000.0 * u(rng));
+    pose.rotation = glm::angleAxis(
+        float(u(rng)) * 3.14159f,
+        glm::normalize(glm::vec3(float(u(rng)), float(u(rng)), float(u(rng))) + 1e-3f));
+    for (int a = 0; a < 3; ++a)
+      pose.scale[a] = float((0.1 + 4.0 * std::abs(u(rng))) * (u(rng) < -0.6 ? -1.0 : 1.0));
+    const gs::ObjectInstanceGpu g = instanceInStack(mesh, 0, pose.matrix(), stack);
+
+    glm::dmat4 stackFromWorld(1.0 / stack.voxelSize0);
+    stackFromWorld[3] = glm::dvec4(-stack.cascade0MinWorld / stack.voxelSize0, 1.0);
+    glm::dmat4 objectFromGrid(double(mesh.voxel));
+    objectFromGrid[3] = glm::dvec4(glm::dvec3(mesh.gridMin), 1.0);
+    const glm::dmat4 m = stackFromWorld * pose.matrix() * objectFromGrid;
+    const glm::dmat4 inverse = glm::inverse(m);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) {
+        // Relative to the row's scale (the translations are thousands of voxels).
+        const double mScale = glm::length(glm::dvec3(m[0][r], m[1][r], m[2][r])) + 1.0;
+        const double iScale = glm::length(glm::dvec3(inverse[0][r], inverse[1][r], inverse[2][r]));
+        worstMap = std::max(worstMap, std::abs(g.stackFromGrid[r][c] - m[c][r]) /
+                                          (c == 3 ? std::abs(m[3][r]) + mScale : mScale));
+        worstInverse =
+            std::max(worstInverse, std::abs(g.gridFromStack[r][c] - inverse[c][r]) /
+                                       (c == 3 ? std::abs(inverse[3][r]) + iScale : iScale));
+      }
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (int n = 0; n < 8; ++n) {
+      const glm::dvec3 corner((n & 1) ? mesh.dims.x - 1.0 : 0.0, (n & 2) ? mesh.dims.y - 1.0 : 0.0,
+                              (n & 4) ? mesh.dims.z - 1.0 : 0.0);
+      const glm::dvec3 p(m * glm::dvec4(corner, 1.0));
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    // Relative to the corners' distance from the stack origin: the bounds are stored as floats.
+    const double scale = 1.0 + std::max(glm::length(lo), glm::length(hi));
+    worstBounds =
+        std::max({worstBounds, glm::length(glm::dvec3(glm::vec3(g.boundsMin)) - lo) / scale,
+                  glm::length(glm::dvec3(glm::vec3(g.boundsMax)) - hi) / scale});
+  }
+  std::printf("[figures] 500 poses: worst relative difference map %.2e, inverse %.2e, AABB %.2e\n",
+              worstMap, worstInverse, worstBounds);
+  EXPECT_LT(worstMap, 1e-6);
+  EXPECT_LT(worstInverse, 1e-6);
+  EXPECT_LT(worstBounds, 1e-6);
+}
+
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
   const CascadeStackImage stack = test::windowsOnlyStack(2);
   test::RandomObjects objects;
