@@ -70,24 +70,6 @@ std::uint32_t InstanceSet::slotOf(InstanceId id) const {
 void InstanceSet::move(InstanceId id, const ObjectTransform& pose) {
   const std::uint32_t slot = slotOf(id);
   pose.validate();
-  moveChecked(slot, pose);
-}
-
-void InstanceSet::move(std::span<const InstanceId> ids, std::span<const ObjectTransform> poses) {
-  if (ids.size() != poses.size())
-    throw std::invalid_argument("InstanceSet::move: " + std::to_string(ids.size()) + " ids but " +
-                                std::to_string(poses.size()) + " poses");
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                        slotOf(ids[k]);
-                        poses[k].validate();
-                      }
-                    });
-  for (std::size_t k = 0; k < ids.size(); ++k) moveChecked(slot_[ids[k]], poses[k]);
-}
-
-void InstanceSet::moveChecked(std::uint32_t slot, const ObjectTransform& pose) {
   Instance& instance = instances_[slot];
   recordChange(instance, true);  // before the pose changes: keeps the frame's start pose
   instance.pose = pose;

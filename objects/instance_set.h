@@ -56,11 +56,6 @@ class InstanceSet {
   InstanceId add(std::uint32_t mesh, const ObjectTransform& pose);
   // Unknown (or removed) id: std::out_of_range naming the id; bad pose: std::invalid_argument.
   void move(InstanceId id, const ObjectTransform& pose);
-  // Many moves at once, as move(ids[k], poses[k]) in order (an id may repeat: its last pose
-  // wins), for thousands of movers a frame: every id and pose is checked first, in parallel,
-  // with move()'s exceptions, and on one nothing moves; only recording the moves is serial.
-  // ids and poses have the same size (std::invalid_argument otherwise).
-  void move(std::span<const InstanceId> ids, std::span<const ObjectTransform> poses);
   // O(1): the last instance takes the removed one's slot. Unknown id: std::out_of_range.
   void remove(InstanceId id);
 
@@ -94,7 +89,6 @@ class InstanceSet {
   };
   std::uint32_t slotOf(InstanceId id) const;  // throws std::out_of_range
   void recordChange(const Instance& instance, bool existedBefore);
-  void moveChecked(std::uint32_t slot, const ObjectTransform& pose);  // id and pose known good
 
   std::vector<Instance> instances_;
   std::vector<std::uint32_t> slot_;  // by id: index into instances_, or kAbsent

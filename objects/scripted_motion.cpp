@@ -91,9 +91,9 @@ ObjectTransform ScriptedMotion::poseAt(std::size_t binding, double t) const {
 }
 
 void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
-  // Poses in parallel (each a pure function of t), then the moves as one batch, in order
-  // (InstanceSet checks a batch in parallel and records it serially). The buffers are kept
-  // between calls (no per-frame allocation).
+  // Poses in parallel (each a pure function of t), then the moves in order: InstanceSet is not
+  // thread-safe, and a move is a few stores next to a pose's trigonometry. The pose buffer is
+  // kept between calls (no per-frame allocation).
   poses_.resize(bindings_.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bindings_.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
@@ -105,14 +105,8 @@ void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
                         if (pose != instance->pose) poses_[i] = pose;
                       }
                     });
-  movedIds_.clear();
-  movedPoses_.clear();
   for (std::size_t i = 0; i < bindings_.size(); ++i)
-    if (poses_[i]) {
-      movedIds_.push_back(bindings_[i].id);
-      movedPoses_.push_back(*poses_[i]);
-    }
-  set.move(movedIds_, movedPoses_);
+    if (poses_[i]) set.move(bindings_[i].id, *poses_[i]);
 }
 
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,

@@ -78,10 +78,7 @@ class ScriptedMotion {
     std::vector<double> pathLength;  // Path: length from points[0] to each point, then the loop
   };
   std::vector<Binding> bindings_;
-  // apply's scratch (capacity kept from frame to frame): poses by binding, then the moves.
-  mutable std::vector<std::optional<ObjectTransform>> poses_;
-  mutable std::vector<InstanceId> movedIds_;
-  mutable std::vector<ObjectTransform> movedPoses_;
+  mutable std::vector<std::optional<ObjectTransform>> poses_;  // apply's scratch, by binding
 };
 
 // Adds `count` instances spread uniformly over `area` (world box) and returns their motion, all

@@ -242,55 +242,5 @@ TEST(InstanceSet, ChangedBoundsMergeEachChangesStartAndEndBoxes) {
   EXPECT_TRUE(set.changedBounds(lib).empty());
 }
 
-// A batch of moves equals the same moves one by one (repeated ids included: the last pose wins,
-// the frame's start pose is kept), in poses, flags and the change record's order; a bad id or
-// pose anywhere in a batch throws before anything moves.
-TEST(InstanceSet, BatchMoveEqualsMovesInOrderAndChecksFirst) {
-  ObjectLibrary lib(test::objectSdfResolution(8, 8));
-  const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
-  InstanceSet batch, single;
-  for (int k = 0; k < 3000; ++k) {
-    batch.add(mesh, at(k));
-    single.add(mesh, at(k));
-  }
-  batch.endFrame();
-  single.endFrame();
-  std::mt19937 rng(5);
-  std::uniform_int_distribution<InstanceId> pick(0, 2999);
-  std::vector<InstanceId> ids;
-  std::vector<ObjectTransform> poses;
-  for (int k = 0; k < 4000; ++k) {  // ~ a third of the ids repeat
-    ids.push_back(pick(rng));
-    poses.push_back(at(k, 1.0, 2.0));
-  }
-  single.move(ids[0], at(-1));  // moved before the batch too: its start pose stays at(0)...
-  batch.move(ids[0], at(-1));
-  batch.move(ids, poses);
-  for (std::size_t k = 0; k < ids.size(); ++k) single.move(ids[k], poses[k]);
-  std::size_t differ = 0;
-  for (InstanceId id = 0; id < 3000; ++id) {
-    const Instance *a = batch.find(id), *b = single.find(id);
-    differ += a->pose == b->pose && a->movedThisFrame == b->movedThisFrame ? 0 : 1;
-  }
-  EXPECT_EQ(differ, 0u);
-  const std::vector<WorldBox> boxesA = batch.changedBoxes(lib), boxesB = single.changedBoxes(lib);
-  ASSERT_EQ(boxesA.size(), boxesB.size());
-  for (std::size_t k = 0; k < boxesA.size(); ++k) EXPECT_TRUE(sameBox(boxesA[k], boxesB[k]));
-
-  batch.endFrame();
-  ObjectTransform bad = at(7);
-  bad.scale.y = 0.0f;
-  const std::vector<InstanceId> someIds = {1, 2, 3};
-  EXPECT_THROW(batch.move(someIds, std::vector<ObjectTransform>{at(100), bad, at(102)}),
-               std::invalid_argument);
-  EXPECT_THROW(
-      batch.move(std::vector<InstanceId>{1, 9999}, std::vector<ObjectTransform>{at(100), at(101)}),
-      std::out_of_range);
-  EXPECT_THROW(batch.move(someIds, std::vector<ObjectTransform>{at(100)}), std::invalid_argument);
-  EXPECT_TRUE(batch.changedBoxes(lib).empty());  // nothing moved
-  EXPECT_FALSE(batch.find(1)->movedThisFrame);
-  EXPECT_NE(batch.find(1)->pose, at(100));
-}
-
 }  // namespace
 }  // namespace sdfstream
