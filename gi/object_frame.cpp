@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
@@ -131,7 +132,7 @@ std::uint32_t wakeRowsToRegions(const WakeRows& rows, gs::ObjectRegionGpu* regio
 
 // Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
 // touches. Per cascade, the boxes' sub-cell ranges are ORed into rows in parallel chunks of
-// boxes (each chunk its own 32 KiB of rows, merged after), then spread into the regions.
+// boxes (each thread its own 32 KiB of rows, merged after), then spread into the regions.
 void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
                       ObjectFrameData& out) {
@@ -163,21 +164,21 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                     });
   std::array<std::uint32_t, gs::kMaxRegionCascades> moved{};
   tbb::parallel_for(std::uint32_t(0), cascades, [&](std::uint32_t c) {
-    const WakeRows rows = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, boxes, 1024), WakeRows(),
-        [&](const tbb::blocked_range<std::size_t>& range, WakeRows local) {
-          if (local.empty()) local.assign(std::size_t(kSubCells) * kSubCells, 0);
-          for (std::size_t k = range.begin(); k != range.end(); ++k)
-            markWakeRange(out.wakeRanges[k * cascades + c], local);
-          return local;
-        },
-        [](WakeRows a, const WakeRows& b) {
-          if (a.empty()) return b;
-          for (std::size_t i = 0; i < b.size(); ++i) a[i] |= b[i];
-          return a;
-        });
-    if (!rows.empty())
-      moved[c] = wakeRowsToRegions(rows, out.regions.data() + c * gs::kRegionsPerCascade);
+    // Rows per thread, ORed after (a reduction passing the rows by value would copy them for
+    // every chunk of boxes).
+    tbb::combinable<WakeRows> perThread(
+        [] { return WakeRows(std::size_t(kSubCells) * kSubCells); });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes, 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        WakeRows& local = perThread.local();
+                        for (std::size_t k = range.begin(); k != range.end(); ++k)
+                          markWakeRange(out.wakeRanges[k * cascades + c], local);
+                      });
+    WakeRows rows(std::size_t(kSubCells) * kSubCells, 0);
+    perThread.combine_each([&](const WakeRows& local) {
+      for (std::size_t i = 0; i < rows.size(); ++i) rows[i] |= local[i];
+    });
+    moved[c] = wakeRowsToRegions(rows, out.regions.data() + c * gs::kRegionsPerCascade);
   });
   for (std::uint32_t c = 0; c < cascades; ++c) out.movedRegions += moved[c];
 }

@@ -13,8 +13,8 @@
 #include <cmath>
 
 #include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "gi/light_cache.h"
 #include "shaders/shared/sdf_layout.h"
@@ -28,7 +28,7 @@ constexpr int kPagesPerAxis = 16;  // a cascade is 16³ pages of 8³ voxels
 // pages relit for nothing) at 4x the cells per doubling.
 constexpr float kShadowCellsPerPage = 4.0f;
 constexpr int kCellsPerAxis = kPagesPerAxis * int(kShadowCellsPerPage);
-// Boxes per parallel task: each task keeps its own cell bits or shadow map, merged after.
+// Boxes per parallel task (each thread keeps its own cell bits or shadow map, merged after).
 constexpr std::size_t kBoxesPerTask = 1024;
 
 struct Box {
@@ -85,7 +85,8 @@ struct CascadePages {
 // to the cells (a quarter page each, inside one page) it touches, and each such cell is kept
 // once; larger boxes and boxes outside the window stay as they are. Growing a box only adds
 // shadow, so this stays conservative, and in coarse cascades thousands of small objects share a
-// few hundred cells. Parallel over chunks of boxes, each with its own cell bits, ORed after.
+// few hundred cells. Parallel over chunks of boxes, each thread with its own cell bits, ORed
+// after.
 struct Casters {
   std::vector<std::uint64_t> cells;  // kCellsPerAxis^3 bits (x fastest), empty: none
   std::vector<Box> boxes;            // kept as they are
@@ -96,9 +97,12 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
   const float invCell = 1.0f / cell;
   constexpr std::size_t kCellWords =
       std::size_t(kCellsPerAxis) * kCellsPerAxis * kCellsPerAxis / 64;
-  Casters all = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask), Casters(),
-      [&](const tbb::blocked_range<std::size_t>& range, Casters local) {
+  // Per thread (a reduction passing these by value would copy them for every chunk of boxes).
+  tbb::combinable<Casters> perThread;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        Casters& local = perThread.local();
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const Box& b = boxes[i];
           const glm::vec3 lo = (b.lo - pages.origin) * invCell,
@@ -123,20 +127,17 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
                 local.cells[bit / 64] |= std::uint64_t(1) << (bit % 64);
               }
         }
-        return local;
-      },
-      [](Casters x, Casters y) {
-        if (x.cells.empty()) {
-          x.cells = std::move(y.cells);
-        } else if (!y.cells.empty()) {
-          for (std::size_t w = 0; w < x.cells.size(); ++w) x.cells[w] |= y.cells[w];
-        }
-        x.boxes.insert(x.boxes.end(), y.boxes.begin(), y.boxes.end());
-        return x;
       });
-  std::vector<Box> out = std::move(all.boxes);
-  for (std::size_t w = 0; w < all.cells.size(); ++w)
-    for (std::uint64_t bits = all.cells[w]; bits != 0; bits &= bits - 1) {
+  std::vector<Box> out;
+  std::vector<std::uint64_t> cells;
+  perThread.combine_each([&](const Casters& local) {
+    out.insert(out.end(), local.boxes.begin(), local.boxes.end());
+    if (local.cells.empty()) return;
+    if (cells.empty()) cells.assign(kCellWords, 0);
+    for (std::size_t w = 0; w < kCellWords; ++w) cells[w] |= local.cells[w];
+  });
+  for (std::size_t w = 0; w < cells.size(); ++w)
+    for (std::uint64_t bits = cells[w]; bits != 0; bits &= bits - 1) {
       const int bit = int(w * 64) + std::countr_zero(bits);
       const glm::ivec3 c(bit % kCellsPerAxis, bit / kCellsPerAxis % kCellsPerAxis,
                          bit / (kCellsPerAxis * kCellsPerAxis));
@@ -185,32 +186,37 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
     z = glm::clamp(glm::ivec2(glm::floor((f.hi - cascade.lo) / cell)), glm::ivec2(0), cells - 1);
     return true;
   };
-  // Parallel over chunks of boxes, each with its own map (empty until a box lands), merged by
-  // the minimum.
+  // Parallel over chunks of boxes, each thread with its own map (empty until a box lands),
+  // merged by the minimum.
   const std::size_t mapCells = std::size_t(cells.x) * std::size_t(cells.y);
-  const std::vector<float> nearest = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask), std::vector<float>(),
-      [&](const tbb::blocked_range<std::size_t>& range, std::vector<float> local) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const Box& b = boxes[i];
-          const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
-          glm::ivec2 a, z;
-          // A box past the cascade's far side shadows nothing of it.
-          if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
-          if (local.empty()) local.assign(mapCells, 1e30f);
-          for (int y = a.y; y <= z.y; ++y)
-            for (int x = a.x; x <= z.x; ++x) {
-              float& d = local[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
-              d = std::min(d, f.nearDepth);
-            }
-        }
-        return local;
-      },
-      [](std::vector<float> x, std::vector<float> y) {
-        if (x.empty()) return y;
-        for (std::size_t i = 0; i < y.size(); ++i) x[i] = std::min(x[i], y[i]);
-        return x;
-      });
+  tbb::combinable<std::vector<float>> perThread;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::vector<float>& local = perThread.local();
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const Box& b = boxes[i];
+                        const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
+                        glm::ivec2 a, z;
+                        // A box past the cascade's far side shadows nothing of it.
+                        if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
+                        if (local.empty()) local.assign(mapCells, 1e30f);
+                        for (int y = a.y; y <= z.y; ++y)
+                          for (int x = a.x; x <= z.x; ++x) {
+                            float& d =
+                                local[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
+                            d = std::min(d, f.nearDepth);
+                          }
+                      }
+                    });
+  std::vector<float> nearest;
+  perThread.combine_each([&](const std::vector<float>& local) {
+    if (local.empty()) return;
+    if (nearest.empty()) {
+      nearest = local;
+      return;
+    }
+    for (std::size_t i = 0; i < mapCells; ++i) nearest[i] = std::min(nearest[i], local[i]);
+  });
   if (nearest.empty()) return;
   // Only resident pages can be relit, so only they are looked up; slabs of pages in parallel
   // (each page's mark is its own byte).
