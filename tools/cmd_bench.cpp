@@ -75,6 +75,7 @@ int runBench(int argc, char** argv) {
   if (argc > 2 && std::string(argv[2]) == "scroll") return runBenchScroll(argc, argv);
   if (argc > 2 && std::string(argv[2]) == "stream") return runBenchStream(argc, argv);
   if (argc > 2 && std::string(argv[2]) == "gi") return runBenchGi(argc, argv);
+  if (argc > 2 && std::string(argv[2]) == "host") return runBenchHost(argc, argv);
   Args args(argc, argv, 2,
             {"-o", "--mesh", "--voxel", "--runs", "--lods", "--tile-voxels", "--max-memory-gib"},
             {"--help", "-h"});
@@ -89,6 +90,7 @@ int runBench(int argc, char** argv) {
         "[-o out/bench/stream]\n"
         "       sdfstream bench gi [--quick] [--scenes a,b] [--out out/bench-gi] [--gpu-table]\n"
         "       sdfstream bench frames WORLD [--frames 300] [--objects 100] (see its --help)\n"
+        "       sdfstream bench host [--objects 100,1000,10000] (see its --help)\n"
         "\n"
         "import: LOD-0 import of a mesh (default: glmark2's bunny; voxel default: largest extent\n"
         "        / 256, vdb_tool's default) through sdfstream's tiled importer vs\n"
@@ -104,14 +106,16 @@ int runBench(int argc, char** argv) {
         "of\n"
         "        the probe settings, plain DDGI as the baseline, Pareto fronts, and the probe-ray\n"
         "        traversal vs Embree/OpenVDB/NanoVDB on one frame's rays (see its --help).\n"
+        "host:   the moving objects' host work per frame by part, no GPU (see its --help).\n"
         "All write results.csv and summary.md into the -o directory (gi: --out, default\n"
         "out/bench-gi, plus PNG plots).");
     return what.empty() && !args.has("--help") && !args.has("-h") ? 2 : 0;
   }
   if (what == "import") return benchImport(args);
   if (what == "world") return benchWorld(args);
-  throw InputError(Kind::Usage, "command line",
-                   "unknown benchmark '" + what + "' (import, world, scroll, stream, gi)");
+  throw InputError(
+      Kind::Usage, "command line",
+      "unknown benchmark '" + what + "' (import, world, scroll, stream, gi, frames, host)");
 }
 
 }  // namespace sdfstream::cli

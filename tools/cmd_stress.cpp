@@ -1,4 +1,5 @@
-// sdfstream stress: parses the stress benchmark's flags; the benchmark is bench/stress.h.
+// sdfstream stress and its host-only sibling sdfstream bench host: parse their flags; the
+// benchmarks are bench/stress.h and bench/host_objects_bench.h.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/host_objects_bench.h"
 #include "bench/stress.h"
 #include "core/error.h"
 #include "tools/args.h"
@@ -162,6 +164,32 @@ int runStress(int argc, char** argv) {
   o.device = *deviceFromArgs(args);  // no --cpu: the objects need Vulkan
   o.command = commandLine(argc, argv, 0);
   return bench::runStress(o);
+}
+
+int runBenchHost(int argc, char** argv) {
+  Args args(argc, argv, 3, {"--objects", "--frames", "--warmup", "--meshes", "--seed", "--out"},
+            {"--help", "-h"});
+  if (args.has("--help") || args.has("-h") || !args.positional().empty()) {
+    std::puts(
+        "usage: sdfstream bench host [--objects 100,1000,10000,100000] [--frames 120]\n"
+        "       [--warmup 10] [--meshes 2] [--seed 1] [--out out/bench/host]\n"
+        "The moving objects' host work per frame, without a GPU: at each object count the spread\n"
+        "objects and scripted motion of `sdfstream stress` (all moving), a synthetic stack of 4\n"
+        "cascades (1 m voxels, every page resident) and a sun; times the motion, the object frame\n"
+        "(instances, changed boxes and wake bits), the card light slots and the shadow pages on\n"
+        "all cores and nothing else (stress's host figures share them with the Vulkan driver).\n"
+        "Writes summary.md (medians by part, us per instance, scaling exponents) and results.csv.");
+    return args.has("--help") || args.has("-h") ? 0 : 2;
+  }
+  bench::HostObjectsOptions o;
+  if (auto list = args.value("--objects")) o.objects = parseObjectCounts(*list);
+  o.frames = args.integer("--frames", o.frames, 1, 1000000);
+  o.warmup = args.integer("--warmup", o.warmup, 0, 1000000);
+  o.meshes = std::uint32_t(args.integer("--meshes", 2, 2, 64));
+  o.seed = std::uint64_t(args.integer("--seed", 1, 0, std::numeric_limits<int>::max()));
+  o.out = args.value("--out").value_or(o.out.string());
+  bench::runHostObjectsBench(o);
+  return 0;
 }
 
 }  // namespace sdfstream::cli

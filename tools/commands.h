@@ -19,5 +19,6 @@ int runBenchScroll(int argc, char** argv);    // tools/cmd_bench_stream.cpp (arg
 int runBenchStream(int argc, char** argv);    // tools/cmd_bench_stream.cpp (argv[2] == "stream")
 int runBenchGi(int argc, char** argv);        // tools/cmd_bench_gi.cpp (argv[2] == "gi")
 int runStress(int argc, char** argv);         // tools/cmd_stress.cpp
+int runBenchHost(int argc, char** argv);      // tools/cmd_stress.cpp (argv[2] == "host")
 
 }  // namespace sdfstream::cli
