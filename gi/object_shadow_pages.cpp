@@ -28,8 +28,15 @@ constexpr int kPagesPerAxis = 16;  // a cascade is 16³ pages of 8³ voxels
 // pages relit for nothing) at 4x the cells per doubling.
 constexpr float kShadowCellsPerPage = 4.0f;
 constexpr int kCellsPerAxis = kPagesPerAxis * int(kShadowCellsPerPage);
-// Boxes per parallel task (each thread keeps its own cell bits or shadow map, merged after).
-constexpr std::size_t kBoxesPerTask = 1024;
+// Boxes are split into at most kMaxTasks chunks of at least kMinBoxesPerTask per cascade, each
+// thread keeping its own cell bits or shadow map, merged after: the merge is serial per
+// cascade, so with every core taking a chunk it would cost (cores x the map) -- as much as the
+// work split -- on a 16-core host. 4 chunks x 4 cascades fill 16 cores.
+constexpr std::size_t kMinBoxesPerTask = 1024;
+constexpr std::size_t kMaxTasks = 4;
+tbb::blocked_range<std::size_t> boxChunks(std::size_t boxes) {
+  return {0, boxes, std::max(kMinBoxesPerTask, (boxes + kMaxTasks - 1) / kMaxTasks)};
+}
 
 struct Box {
   glm::vec3 lo, hi;
@@ -100,8 +107,7 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
   // Per thread (a reduction passing these by value would copy them for every chunk of boxes).
   tbb::combinable<Casters> perThread;
   tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask),
-      [&](const tbb::blocked_range<std::size_t>& range) {
+      boxChunks(boxes.size()), [&](const tbb::blocked_range<std::size_t>& range) {
         Casters& local = perThread.local();
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const Box& b = boxes[i];
@@ -190,24 +196,22 @@ void markSunShadows(const CascadePages& pages, std::span<const Box> boxes, glm::
   // merged by the minimum.
   const std::size_t mapCells = std::size_t(cells.x) * std::size_t(cells.y);
   tbb::combinable<std::vector<float>> perThread;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::vector<float>& local = perThread.local();
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const Box& b = boxes[i];
-                        const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
-                        glm::ivec2 a, z;
-                        // A box past the cascade's far side shadows nothing of it.
-                        if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
-                        if (local.empty()) local.assign(mapCells, 1e30f);
-                        for (int y = a.y; y <= z.y; ++y)
-                          for (int x = a.x; x <= z.x; ++x) {
-                            float& d =
-                                local[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
-                            d = std::min(d, f.nearDepth);
-                          }
-                      }
-                    });
+  tbb::parallel_for(boxChunks(boxes.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<float>& local = perThread.local();
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Box& b = boxes[i];
+      const Footprint f = project(0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo));
+      glm::ivec2 a, z;
+      // A box past the cascade's far side shadows nothing of it.
+      if (f.nearDepth > cascade.farDepth || !cellRange(f, a, z)) continue;
+      if (local.empty()) local.assign(mapCells, 1e30f);
+      for (int y = a.y; y <= z.y; ++y)
+        for (int x = a.x; x <= z.x; ++x) {
+          float& d = local[std::size_t(x) + std::size_t(cells.x) * std::size_t(y)];
+          d = std::min(d, f.nearDepth);
+        }
+    }
+  });
   std::vector<float> nearest;
   perThread.combine_each([&](const std::vector<float>& local) {
     if (local.empty()) return;
@@ -263,7 +267,7 @@ Box pointShadowSegment(const Box& b, glm::vec3 lightPos, float s0, float s1) {
 void markPointShadows(const CascadePages& pages, std::span<const Box> boxes, glm::vec3 lightPos,
                       float reach) {
   const Box window{pages.origin, pages.origin + glm::vec3(float(kPagesPerAxis) * pages.edge)};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), kBoxesPerTask / 4),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), kMinBoxesPerTask / 4),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const Box& b = boxes[i];
