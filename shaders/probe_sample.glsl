@@ -28,11 +28,11 @@ float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
 // docs/DECISIONS.md), else -1 (trace). The test exists for the corners Chebyshev would let
 // through a thin wall: depth texels that mix near hits and far ones (large variance). Where the
 // bilinearly filtered moments are decisive the trace is skipped and its likely answer used: a
-// probe Chebyshev all but hides (weight below 0.1; with the crush below kProbeCrushThreshold the
-// Breakfast Room reads the same at 0.05 in quick mode: E/E_ref 0.920, relMSE 0.0731 against
-// 0.0730) is blocked (1e-4, as a hit), and a receiver nearer than the mean depth of a narrow distribution (sigma <=
-// 10% of the mean: every ray near that direction went at least about as far, so no wall stands
-// in between) is visible.
+// probe Chebyshev all but hides (weight below 0.1, which the crush below kProbeCrushThreshold
+// then all but zeroes anyway; at a 0.05 crush a 0.05 threshold here read the same in the
+// Breakfast Room, quick mode: relMSE 0.0731 against 0.0730) is blocked (1e-4, as a hit), and a
+// receiver nearer than the mean depth of a narrow distribution (sigma <= 10% of the mean: every
+// ray near that direction went at least about as far, so no wall stands in between) is visible.
 // Without Chebyshev, or with kProbeOptionSdfEverywhere, every corner is traced.
 float probeSdfVisibilityPresumed(ProbeFrame f, vec2 moments, float r, float chebyshev) {
   if ((f.options.x & (kProbeOptionSdfEverywhere | kProbeOptionNoChebyshev)) != 0u) return -1.0f;
