@@ -223,7 +223,8 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const std::size_t regionBytes = frame_.regions.size() * sizeof(gs::ObjectRegionGpu);
   ensure(context_, regions_, regionBytes, gpu::BufferKind::DeviceLocal);
   staging.upload(batch, regions_, 0, frame_.regions.data(), regionBytes);
-  ensure(context_, lists_, std::size_t(frame_.listCapacity) * 4, gpu::BufferKind::DeviceLocal);
+  ensure(context_, lists_, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
+         gpu::BufferKind::DeviceLocal);
 
   const std::uint32_t n = frame_.frame.counts.x, cascades = frame_.frame.counts.y;
   if (n == 0) return;  // only removals: the moved flags, no lists to build
@@ -266,9 +267,9 @@ std::vector<gs::ObjectRegionGpu> ObjectScene::downloadRegions() const {
   return out;
 }
 
-std::vector<std::uint32_t> ObjectScene::downloadLists() const {
-  std::vector<std::uint32_t> out(active() ? frame_.listCapacity : 0);
-  if (!out.empty()) lists_.download(out.data(), out.size() * 4);
+std::vector<glm::uvec4> ObjectScene::downloadLists() const {
+  std::vector<glm::uvec4> out(active() ? frame_.listCapacity : 0);
+  if (!out.empty()) lists_.download(out.data(), out.size() * sizeof(glm::uvec4));
   return out;
 }
 

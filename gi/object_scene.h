@@ -109,7 +109,8 @@ class ObjectScene {
                                                 bool bruteForce);
 
   std::vector<gpu_shared::ObjectRegionGpu> downloadRegions() const;
-  std::vector<std::uint32_t> downloadLists() const;
+  // The region lists' entries (objListEntry in shaders/object_trace.glsl: instance index in x).
+  std::vector<glm::uvec4> downloadLists() const;
   // GPU times of the last update's region passes (count, scan, fill); empty when inactive.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }

@@ -13,7 +13,7 @@ struct ObjectBindings {
   const ObjectMeshGpu* meshes = nullptr;
   const ObjectInstanceGpu* instances = nullptr;
   const ObjectRegionGpu* regions = nullptr;
-  const std::uint32_t* list = nullptr;
+  const glm::uvec4* list = nullptr;
   const float* dist = nullptr;
   const glm::uvec2* mat = nullptr;
 };
@@ -106,7 +106,7 @@ namespace {
 template <typename Passes>
 Passes passesOf(const ObjectAtlasData& atlas, const ObjectFrameData& frame,
                 const std::vector<gs::ObjectRegionGpu>& regions,
-                const std::vector<std::uint32_t>& flat) {
+                const std::vector<glm::uvec4>& flat) {
   Passes p;
   p.framePtr = &frame.frame;
   p.meshes = atlas.meshes.data();
@@ -162,7 +162,11 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
       }
       regions_[g].start = std::uint32_t(flat_.size());
       regions_[g].count = std::uint32_t(lists_[g].size());
-      flat_.insert(flat_.end(), lists_[g].begin(), lists_[g].end());
+      for (std::uint32_t i : lists_[g]) {
+        const gs::ObjectInstanceGpu& inst = frame_.instances[i];
+        flat_.push_back(
+            p.objListEntry(i, glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w));
+      }
     }
   }
 }

@@ -15,7 +15,7 @@ layout(std430, binding = OBJ_BINDING_BASE + 1) readonly buffer ObjectInstances {
   ObjectInstanceGpu objInstances[];
 };
 layout(std430, binding = OBJ_BINDING_BASE + 2) buffer ObjectRegions { ObjectRegionGpu objRegions[]; };
-layout(std430, binding = OBJ_BINDING_BASE + 3) buffer ObjectLists { uint objList[]; };
+layout(std430, binding = OBJ_BINDING_BASE + 3) buffer ObjectLists { uvec4 objList[]; };
 layout(std430, binding = OBJ_BINDING_BASE + 4) readonly buffer ObjectDistance { float objDist[]; };
 layout(std430, binding = OBJ_BINDING_BASE + 5) readonly buffer ObjectMaterial { uvec2 objMat[]; };
 layout(std430, binding = OBJ_BINDING_BASE + 6) readonly buffer ObjectCards { uvec4 objCardData[]; };

@@ -10,7 +10,8 @@
 //            which need the instances' old poses too, come from the host);
 //   1 scan:  one workgroup turns counts into list starts (exclusive prefix sum), clamped to the
 //            list capacity the host sized from the same AABB ranges;
-//   2 fill:  as 0, appending the instance index at start + atomicAdd(cursor).
+//   2 fill:  as 0, appending the instance's entry (index and quantised AABB, objListEntry) at
+//            start + atomicAdd(cursor).
 // Cost: instances × regions of their AABBs, plus one scan of cascades × 512 counts.
 #extension GL_GOOGLE_include_directive : require
 
@@ -90,7 +91,10 @@ void main() {
                    row << objOccupancyShift(y));
     } else {
       uint slot = atomicAdd(objRegions[region].cursor, 1u);
-      if (slot < objRegions[region].count) objList[objRegions[region].start + slot] = i;
+      if (slot < objRegions[region].count)
+        objList[objRegions[region].start + slot] = objListEntry(
+            i, vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
+            vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);
     }
   }
 }

@@ -12,7 +12,8 @@
 //   OBJ_MESH(m)        -> ObjectMeshGpu m
 //   OBJ_INSTANCE(i)    -> ObjectInstanceGpu i
 //   OBJ_REGION(i)      -> ObjectRegionGpu i (cascade * 512 + region)
-//   OBJ_LIST(i)        -> uint entry i of the region lists (instance indices)
+//   OBJ_LIST(i)        -> uvec4 entry i of the region lists (objListEntry: instance index and
+//                         its AABB within the region)
 //   OBJ_DIST(i)        -> float sample i of the object-SDF atlas (grid voxels)
 //   OBJ_MAT(i)         -> uvec2 (albedo RGBA8, emission RGB9E5) of sample i
 // Rays are in stack space (cascade-0 voxels from cascade 0's minimum corner), unit direction.
@@ -259,6 +260,42 @@ vec2 objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo, 
   return span;
 }
 
+// A region list entry (OBJ_LIST): x is the instance index, y..w its stack AABB within the
+// region, so the walk tests a listed instance's box from the entry it has just read instead of a
+// second, dependent load of the instance's bounds. Coordinates are in region edges from the
+// region's min corner, clamped to [-0.5, 1.5] (a ray's stretch in the region never leaves it by
+// more than a hair) and quantised to 16 bits outward with a code of slack (min down, max up), so
+// the decoded box holds the true box's part near the region; the instance's own trace clips to
+// its grid box, so a looser box costs a test, never a hit. y: lo.x | lo.y << 16,
+// z: lo.z | hi.x << 16, w: hi.y | hi.z << 16.
+uint objListCode(float u, bool up) {
+  float s = (clamp(u, -0.5f, 1.5f) + 0.5f) * 32767.5f;
+  return uint(clamp(up ? ceil(s) + 1.0f : floor(s) - 1.0f, 0.0f, 65535.0f));
+}
+
+uvec4 objListEntry(uint instance, vec3 bmin, vec3 bmax, vec3 rLo, float edge) {
+  vec3 a = (bmin - rLo) / edge;
+  vec3 b = (bmax - rLo) / edge;
+  return uvec4(instance, objListCode(a.x, false) | (objListCode(a.y, false) << 16u),
+               objListCode(a.z, false) | (objListCode(b.x, true) << 16u),
+               objListCode(b.y, true) | (objListCode(b.z, true) << 16u));
+}
+
+struct ObjListBox {
+  vec3 lo;
+  vec3 hi;
+};
+
+ObjListBox objListEntryBox(uvec4 e, vec3 rLo, float edge) {
+  float k = edge / 32767.5f;
+  vec3 lo = vec3(float(e.y & 0xffffu), float(e.y >> 16u), float(e.z & 0xffffu));
+  vec3 hi = vec3(float(e.z >> 16u), float(e.w & 0xffffu), float(e.w >> 16u));
+  ObjListBox b;
+  b.lo = rLo + lo * k - vec3(0.5f * edge);
+  b.hi = rLo + hi * k - vec3(0.5f * edge);
+  return b;
+}
+
 // Whether a region grid cascade c holds stack point p (faces included).
 bool objInRegionGrid(uint c, vec3 p) {
   vec4 ro = OBJ_FRAME.regionOrigin[c];
@@ -314,13 +351,13 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     float from = max(t, occupied.x - 1e-4f * ro.w);
     uint start = OBJ_REGION(regionIndex).start;
     for (uint k = 0u; k < count && occupied.x <= occupied.y; ++k) {
-      uint i = OBJ_LIST(start + k);
+      uvec4 entry = OBJ_LIST(start + k);
+      uint i = entry.x;
       // A little past the stretch's end, so a surface exactly on a face is not lost.
       float hiT = best.t >= 0.0f ? min(best.t, occupied.y + 1e-3f) : occupied.y + 1e-3f;
-      // The instance's AABB first (two loads), before its grid maps and any SDF read.
-      vec4 bmin = OBJ_INSTANCE(i).boundsMin;
-      vec4 bmax = OBJ_INSTANCE(i).boundsMax;
-      vec2 box = objBoxClip(o, inv, vec3(bmin.x, bmin.y, bmin.z), vec3(bmax.x, bmax.y, bmax.z));
+      // The instance's AABB first (from the entry), before its grid maps and any SDF read.
+      ObjListBox lb = objListEntryBox(entry, rLo, ro.w);
+      vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
       if (max(box.x, from) > min(box.y, hiT)) continue;
       best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
     }
@@ -404,7 +441,7 @@ vec2 objNearestListed(vec3 p, uint firstCascade, float minRadius) {
     ivec3 r = clamp(ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w)), ivec3(0), ivec3(7));
     ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
     for (uint k = 0u; k < region.count; ++k) {
-      uint i = OBJ_LIST(region.start + k);
+      uint i = OBJ_LIST(region.start + k).x;
       if (OBJ_INSTANCE(i).boundsMax.w < minRadius) continue;
       float d = objInstanceDistance(i, p);
       if (d < best.x) best = vec2(d, float(i));

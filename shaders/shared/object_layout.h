@@ -61,7 +61,7 @@ SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) t
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
   uint count;                       // instances listed
-  uint start;                       // first entry in OBJ_LIST
+  uint start;                       // first entry in OBJ_LIST (uvec4 each: objListEntry)
   uint moved;                       // nonzero: some wake bit below is set
   uint cursor;                      // fill pass scratch
   uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)

@@ -27,7 +27,7 @@ std::vector<std::vector<std::uint32_t>> gpuLists(const ObjectScene& scene) {
   std::vector<std::vector<std::uint32_t>> out(regions.size());
   for (std::size_t r = 0; r < regions.size(); ++r) {
     for (std::uint32_t k = 0; k < regions[r].count; ++k)
-      out[r].push_back(list.at(regions[r].start + k));
+      out[r].push_back(list.at(regions[r].start + k).x);
     std::sort(out[r].begin(), out[r].end());
   }
   return out;
@@ -52,6 +52,41 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   }
   for (std::uint32_t n : regionsPerInstance) spanning += n >= 27 ? 1 : 0;
   const auto regions = gpu.downloadRegions();
+  // Each GPU entry's box (16-bit codes over [-0.5, 1.5] region edges from the region's min
+  // corner, decoded here from that layout) holds the instance's AABB clipped to that range, and
+  // lies within a few codes of it.
+  const std::vector<glm::uvec4> entryData = gpu.downloadLists();
+  std::size_t looseEntries = 0, uncovered = 0, checked = 0;
+  for (std::uint32_t r = 0; r < regions.size(); ++r) {
+    const glm::vec4 ro = cpu.frame().frame.regionOrigin[r / gs::kRegionsPerCascade];
+    const std::uint32_t local = r % gs::kRegionsPerCascade;
+    const glm::vec3 rLo = glm::vec3(ro) + glm::vec3(local % 8, local / 8 % 8, local / 64) * ro.w;
+    for (std::uint32_t k = 0; k < regions[r].count; ++k) {
+      const glm::uvec4 e = entryData.at(regions[r].start + k);
+      ++checked;
+      const gs::ObjectInstanceGpu& inst = cpu.frame().instances.at(e.x);
+      const std::uint32_t codes[6] = {e.y & 0xffffu, e.y >> 16,     e.z & 0xffffu,
+                                      e.z >> 16,     e.w & 0xffffu, e.w >> 16};
+      for (int a = 0; a < 3; ++a) {
+        const double edge = ro.w, code = edge / 32767.5;
+        const double lo = rLo[a] + (codes[a] / 32767.5 - 0.5) * edge;
+        const double hi = rLo[a] + (codes[3 + a] / 32767.5 - 0.5) * edge;
+        const double wantLo =
+            std::clamp(double(inst.boundsMin[a]), rLo[a] - 0.5 * edge, rLo[a] + 1.5 * edge);
+        const double wantHi =
+            std::clamp(double(inst.boundsMax[a]), rLo[a] - 0.5 * edge, rLo[a] + 1.5 * edge);
+        uncovered += lo > wantLo || hi < wantHi ? 1 : 0;
+        looseEntries += wantLo - lo > 4.0 * code || hi - wantHi > 4.0 * code ? 1 : 0;
+      }
+    }
+  }
+  std::printf(
+      "[figures] %zu list entries: %zu axes whose box misses the AABB, %zu looser than 4 "
+      "codes\n",
+      checked, uncovered, looseEntries);
+  EXPECT_EQ(checked, entries);
+  EXPECT_EQ(uncovered, 0u);
+  EXPECT_EQ(looseEntries, 0u);
   std::size_t movedDiffer = 0, occupancyDiffer = 0, occupiedBits = 0;
   for (std::uint32_t r = 0; r < regions.size(); ++r) {
     // The GPU passes keep the host's wake bits as uploaded.
