@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 namespace sdfstream {
 
 namespace gs = gpu_shared;
@@ -13,6 +17,27 @@ constexpr std::int64_t kMovedBoost = 8;
 // old lights), in the order of their age.
 constexpr std::int64_t kLightsChangedBoost = std::int64_t(1) << 40;
 constexpr std::uint32_t kLevels = gs::kCardLightLevels;
+// Instances per parallel task in the per-instance passes below.
+constexpr std::size_t kInstancesPerTask = 2048;
+
+template <typename Sum, typename Body>
+Sum parallelSum(std::size_t n, Body body) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, n, kInstancesPerTask), Sum{},
+      [&](const tbb::blocked_range<std::size_t>& range, Sum sum) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) sum += body(i);
+        return sum;
+      },
+      [](Sum a, Sum b) { return a + b; });
+}
+
+template <typename Body>
+void parallelEach(std::size_t n, Body body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kInstancesPerTask),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) body(i);
+                    });
+}
 
 // The level for an instance `distance` from the viewer, keeping `current` (-1: none) while the
 // distance stays within its band widened by an eighth of `beyond` on both sides.
@@ -68,19 +93,22 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // go first, yet when everything moves every instance still takes its turn: the oldest first).
   // Resetting every block to "never lit" on a light change instead would, with lights that change
   // every frame, relight the same lowest indices every frame and starve the rest.
-  const bool overCap = [&] {
-    std::uint64_t wanted = 0;  // at level 0: a cap that level 0 fits needs no distances
-    for (const gs::ObjectInstanceGpu& inst : instances)
-      wanted += inst.info.x < meshTexels.size() ? meshTexels[inst.info.x] : 0u;
-    return wanted > capacityTexels;
-  }();
+  // The per-instance passes run in parallel and write only their instance's entries (and, for
+  // the instance's id, its block: ids are distinct, as InstanceSet's are); whatever changes the
+  // shared block lists or free lists is applied serially after, in instance order, so the
+  // result does not depend on the threads.
+  const bool overCap =  // at level 0: a cap that level 0 fits needs no distances
+      parallelSum<std::uint64_t>(instances.size(), [&](std::size_t i) -> std::uint64_t {
+        const std::uint32_t mesh = instances[i].info.x;
+        return mesh < meshTexels.size() ? meshTexels[mesh] : 0u;
+      }) > capacityTexels;
   std::vector<float>& distance = distance_;
   if (byDistance || overCap) {
     distance.resize(instances.size());
-    for (std::uint32_t i = 0; i < instances.size(); ++i) {
+    parallelEach(instances.size(), [&](std::size_t i) {
       const glm::vec3 lo(instances[i].boundsMin), hi(instances[i].boundsMax);
       distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
-    }
+    });
   }
   // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
   // free list first, so this frame's newcomers can take them; so do blocks of another level than
@@ -88,18 +116,22 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // never lit). One lookup per instance here.
   std::vector<std::uint32_t>& level = level_;
   level.assign(instances.size(), 0u);
-  for (std::uint32_t i = 0; i < instances.size(); ++i) {
+  std::vector<std::uint8_t>& flag = flag_;  // here: the instance's block changes level
+  flag.assign(instances.size(), 0u);
+  parallelEach(instances.size(), [&](std::size_t i) {
     const gs::ObjectInstanceGpu& inst = instances[i];
     Block* block = find(inst.info.z);
     const bool sameMesh = block && block->mesh == inst.info.x;
     if (sameMesh) block->seenFrame = frame_;
-    if (!byDistance) continue;
+    if (!byDistance) return;
     const int current = sameMesh ? int(block->level) : -1;
     level[i] = levelAt(distance[i], levels.beyond, current);
-    if (current >= 0 && std::uint32_t(current) != level[i]) {
-      release(inst.info.z);
-      ++stats_.relevelled;
-    }
+    flag[i] = current >= 0 && std::uint32_t(current) != level[i] ? 1u : 0u;
+  });
+  for (std::uint32_t i = 0; i < instances.size(); ++i) {
+    if (!flag[i]) continue;
+    release(instances[i].info.z);
+    ++stats_.relevelled;
   }
   for (std::size_t k = 0; k < live_.size();) {
     const std::uint32_t id = live_[k];
@@ -116,8 +148,8 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   };
   // Over the cap: keep the nearest instances whose blocks fit, hand out blocks nearest first,
   // and evict the rest (their blocks return to the free lists before anyone allocates).
-  std::uint64_t wanted = 0;
-  for (std::uint32_t i = 0; i < instances.size(); ++i) wanted += texelsOf(i);
+  const std::uint64_t wanted = parallelSum<std::uint64_t>(
+      instances.size(), [&](std::size_t i) -> std::uint64_t { return texelsOf(std::uint32_t(i)); });
   std::vector<std::uint32_t>& order = order_;
   order.resize(instances.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -138,48 +170,95 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       ++stats_.evicted;
     }
   }
-  std::vector<Candidate>& candidates = candidates_;
-  candidates.clear();
-  for (std::uint32_t i : order) {
+  // Instances that hold a block: their light's place and relight key, in parallel. Those that
+  // need a new block are flagged and served after, serially, in `order` (nearest first when over
+  // the cap), as the free lists and the atlas's end are shared.
+  std::vector<std::int64_t>& key = key_;
+  key.resize(instances.size());
+  auto keyOf = [&](const gs::ObjectInstanceGpu& inst, const Block& block) {
+    const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
+    std::int64_t k = std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
+    if (block.litFrame < lightsFrame_) k -= kLightsChangedBoost;
+    if (block.litFrame == 0) k = std::numeric_limits<std::int64_t>::min();
+    return k;
+  };
+  struct Counts {
+    std::uint32_t withCards = 0, overBudget = 0;
+    std::uint64_t liveTexels = 0;
+    std::array<std::uint32_t, kLevels> atLevel{};
+    Counts& operator+=(const Counts& o) {
+      withCards += o.withCards;
+      overBudget += o.overBudget;
+      liveTexels += o.liveTexels;
+      for (std::uint32_t l = 0; l < kLevels; ++l) atLevel[l] += o.atLevel[l];
+      return *this;
+    }
+    Counts operator+(const Counts& o) const {
+      Counts c = *this;
+      return c += o;
+    }
+  };
+  enum : std::uint8_t { kNone = 0, kLit = 1, kNeedsBlock = 2 };
+  const Counts counts = parallelSum<Counts>(instances.size(), [&](std::size_t i) {
+    Counts c;
     gs::ObjectInstanceGpu& inst = instances[i];
     inst.info.w = gs::kNoCardLight;
+    flag[i] = kNone;
+    const std::uint32_t texels = texelsOf(std::uint32_t(i));
+    if (texels == 0) return c;
+    if (!kept[i]) {
+      ++c.overBudget;
+      return c;
+    }
+    const Block* found = find(inst.info.z);
+    if (!found) {
+      flag[i] = kNeedsBlock;
+      return c;
+    }
+    inst.info.w = found->base | found->level << gs::kCardLightLevelShift;
+    ++c.withCards;
+    ++c.atLevel[found->level];
+    c.liveTexels += texels;
+    key[i] = keyOf(inst, *found);
+    flag[i] = kLit;
+    return c;
+  });
+  stats_.withCards += counts.withCards;
+  stats_.overBudget += counts.overBudget;
+  stats_.liveTexels += counts.liveTexels;
+  for (std::uint32_t l = 0; l < kLevels; ++l) stats_.atLevel[l] += counts.atLevel[l];
+  for (std::uint32_t i : order) {
+    if (flag[i] != kNeedsBlock) continue;
+    gs::ObjectInstanceGpu& inst = instances[i];
     const std::uint32_t mesh = inst.info.x;
     const std::uint32_t texels = texelsOf(i);
-    if (texels == 0) continue;
-    if (!kept[i]) {
+    Block block;
+    block.mesh = mesh;
+    block.level = level[i];
+    block.seenFrame = frame_;
+    std::vector<std::uint32_t>& freed = free_[mesh * kLevels + block.level];
+    if (!freed.empty()) {
+      block.base = freed.back();
+      freed.pop_back();
+    } else if (end_ + texels <= capacityTexels && end_ + texels <= gs::kCardLightBaseMask) {
+      block.base = std::uint32_t(end_);
+      end_ += texels;
+    } else {
       ++stats_.overBudget;
       continue;
     }
-    Block* found = find(inst.info.z);
-    if (!found) {
-      Block block;
-      block.mesh = mesh;
-      block.level = level[i];
-      block.seenFrame = frame_;
-      std::vector<std::uint32_t>& freed = free_[mesh * kLevels + block.level];
-      if (!freed.empty()) {
-        block.base = freed.back();
-        freed.pop_back();
-      } else if (end_ + texels <= capacityTexels && end_ + texels <= gs::kCardLightBaseMask) {
-        block.base = std::uint32_t(end_);
-        end_ += texels;
-      } else {
-        ++stats_.overBudget;
-        continue;
-      }
-      found = &insert(inst.info.z, block);
-    }
-    const Block& block = *found;
-    inst.info.w = block.base | block.level << gs::kCardLightLevelShift;
+    const Block& added = insert(inst.info.z, block);
+    inst.info.w = added.base | added.level << gs::kCardLightLevelShift;
     ++stats_.withCards;
-    ++stats_.atLevel[block.level];
+    ++stats_.atLevel[added.level];
     stats_.liveTexels += texels;
-    const bool moved = (inst.info.y & gs::kObjectFlagMoved) != 0u;
-    std::int64_t key = std::int64_t(block.litFrame) - (moved ? kMovedBoost : 0);
-    if (block.litFrame < lightsFrame_) key -= kLightsChangedBoost;
-    if (block.litFrame == 0) key = std::numeric_limits<std::int64_t>::min();
-    candidates.push_back({key, i});
+    key[i] = keyOf(inst, added);
+    flag[i] = kLit;
   }
+  std::vector<Candidate>& candidates = candidates_;
+  candidates.clear();
+  for (std::uint32_t i = 0; i < instances.size(); ++i)
+    if (flag[i] == kLit) candidates.push_back({key[i], i});
   const std::size_t take = std::min<std::size_t>(budget, candidates.size());
   auto byKey = [](const Candidate& a, const Candidate& b) {
     return a.key != b.key ? a.key < b.key : a.index < b.index;

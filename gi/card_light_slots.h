@@ -101,7 +101,8 @@ class CardLightSlots {
   };
   std::vector<float> distance_;
   std::vector<std::uint32_t> level_, order_;
-  std::vector<std::uint8_t> kept_;
+  std::vector<std::uint8_t> kept_, flag_;
+  std::vector<std::int64_t> key_;
   std::vector<Candidate> candidates_;
   std::uint64_t end_ = 0;
   std::uint64_t frame_ = 0;
