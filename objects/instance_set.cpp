@@ -13,6 +13,30 @@ namespace {
 
 bool finite(glm::dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// T·R·S composed directly: R's columns scaled, then the translation (no 4×4 products; this
+// runs for every instance every frame). For a pose already validated.
+glm::dmat4 matrixOfValid(const ObjectTransform& pose) {
+  const glm::dmat3 r = glm::mat3_cast(glm::normalize(
+      glm::dquat(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)));
+  glm::dmat4 m(1.0);
+  for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c] * double(pose.scale[c]), 0.0);
+  m[3] = glm::dvec4(pose.translation, 1.0);
+  return m;
+}
+
+// worldBoundsOf for a pose already validated: the poses of an InstanceSet all are (add and move
+// check them), so its changed boxes, two per moving instance a frame, skip the checks.
+WorldBox boundsOfValid(const ObjectSdf& sdf, const ObjectTransform& pose) {
+  // The AABB of a transformed box: its centre moved, plus |M| (the 3×3 part, absolute values)
+  // times its half extents -- the 8 corners' min and max without transforming 8 corners.
+  const glm::dmat4 m = matrixOfValid(pose);
+  const glm::dvec3 lo(sdf.gridMin), hi(sdf.gridMax());
+  const glm::dvec3 centre(m * glm::dvec4(0.5 * (lo + hi), 1.0)), half = 0.5 * (hi - lo);
+  glm::dvec3 reach(0.0);
+  for (int c = 0; c < 3; ++c) reach += glm::abs(glm::dvec3(m[c])) * half[c];
+  return WorldBox{centre - reach, centre + reach};
+}
+
 }  // namespace
 
 void ObjectTransform::validate() const {
@@ -28,25 +52,12 @@ void ObjectTransform::validate() const {
 
 glm::dmat4 ObjectTransform::matrix() const {
   validate();
-  // T·R·S composed directly: R's columns scaled, then the translation (no 4×4 products; this
-  // runs for every instance every frame).
-  const glm::dmat3 r =
-      glm::mat3_cast(glm::normalize(glm::dquat(rotation.w, rotation.x, rotation.y, rotation.z)));
-  glm::dmat4 m(1.0);
-  for (int c = 0; c < 3; ++c) m[c] = glm::dvec4(r[c] * double(scale[c]), 0.0);
-  m[3] = glm::dvec4(translation, 1.0);
-  return m;
+  return matrixOfValid(*this);
 }
 
 WorldBox worldBoundsOf(const ObjectSdf& sdf, const ObjectTransform& pose) {
-  // The AABB of a transformed box: its centre moved, plus |M| (the 3×3 part, absolute values)
-  // times its half extents -- the 8 corners' min and max without transforming 8 corners.
-  const glm::dmat4 m = pose.matrix();
-  const glm::dvec3 lo(sdf.gridMin), hi(sdf.gridMax());
-  const glm::dvec3 centre(m * glm::dvec4(0.5 * (lo + hi), 1.0)), half = 0.5 * (hi - lo);
-  glm::dvec3 reach(0.0);
-  for (int c = 0; c < 3; ++c) reach += glm::abs(glm::dvec3(m[c])) * half[c];
-  return WorldBox{centre - reach, centre + reach};
+  pose.validate();
+  return boundsOfValid(sdf, pose);
 }
 
 InstanceId InstanceSet::add(std::uint32_t mesh, const ObjectTransform& pose) {
@@ -130,9 +141,9 @@ void InstanceSet::changedBounds(const ObjectLibrary& lib, std::vector<WorldBox>&
                         const Change& c = changes_[i];
                         const ObjectSdf& sdf = lib.mesh(c.mesh);
                         WorldBox b{glm::dvec3(INFINITY), glm::dvec3(-INFINITY)};
-                        if (c.before) b = worldBoundsOf(sdf, *c.before);
+                        if (c.before) b = boundsOfValid(sdf, *c.before);
                         if (const Instance* now = find(c.id)) {
-                          const WorldBox n = worldBoundsOf(sdf, now->pose);
+                          const WorldBox n = boundsOfValid(sdf, now->pose);
                           b = WorldBox{glm::min(b.min, n.min), glm::max(b.max, n.max)};
                         }
                         out[i] = b;
