@@ -110,23 +110,24 @@ void markWakeRange(const ObjectFrameData::SubCellRange& r, WakeRows& rows) {
 }
 
 // The rows into the regions' wake words (region.wake[sy / 4 + 2 sz], byte sy % 4 = the row of
-// 8 sub-cells at (sy, sz) in the region), and each region's moved flag.
+// 8 sub-cells at (sy, sz) in the region) and moved flags; returns the regions moved. Only rows
+// with a bit set are visited, so few movers cost few rows.
 std::uint32_t wakeRowsToRegions(const WakeRows& rows, gs::ObjectRegionGpu* regions) {
-  std::uint32_t moved = 0;
-  for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) {
-    gs::ObjectRegionGpu& region = regions[r];
-    const int rx = int(r % 8), ry = int(r / 8 % 8), rz = int(r / 64);
-    std::uint32_t any = 0;
-    for (int sz = 0; sz < 8; ++sz)
-      for (int sy = 0; sy < 8; ++sy) {
-        const std::uint64_t row = rows[std::size_t(ry * 8 + sy + kSubCells * (rz * 8 + sz))];
+  for (int z = 0; z < kSubCells; ++z)
+    for (int y = 0; y < kSubCells; ++y) {
+      const std::uint64_t row = rows[std::size_t(y + kSubCells * z)];
+      if (row == 0) continue;
+      const int sy = y % 8, sz = z % 8;
+      for (int rx = 0; rx < 8; ++rx) {
         const std::uint32_t byte = std::uint32_t(row >> (8 * rx)) & 0xFFu;
+        if (byte == 0) continue;
+        gs::ObjectRegionGpu& region = regions[rx + 8 * (y / 8 + 8 * (z / 8))];
         region.wake[sy / 4 + 2 * sz] |= byte << (8 * (sy % 4));
-        any |= byte;
+        region.moved = 1u;
       }
-    region.moved = any != 0u ? 1u : 0u;
-    moved += region.moved;
-  }
+    }
+  std::uint32_t moved = 0;
+  for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) moved += regions[r].moved;
   return moved;
 }
 
