@@ -8,8 +8,10 @@
 
 #include <tbb/info.h>
 
+#include "bench/report_format.h"
 #include "cards/card_layout.h"
 #include "core/atomic_dir.h"
+#include "core/stats.h"
 #include "gi/card_light_slots.h"
 #include "gi/light_cache.h"
 #include "gi/object_frame.h"
@@ -48,12 +50,6 @@ struct Parts {
   double motion = 0, instances = 0, wake = 0, cards = 0, shadowPages = 0, total = 0;
   double pages = 0, changed = 0;
 };
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 Parts runCount(const HostObjectsOptions& o, std::uint32_t count) {
   const CascadeStackImage image = syntheticStack();
@@ -118,11 +114,6 @@ Parts runCount(const HostObjectsOptions& o, std::uint32_t count) {
                median(shadowMs), median(totalMs),     median(pages),  median(changed)};
 }
 
-std::string format(const char* fmt, double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, fmt, v);
-  return text;
-}
 }  // namespace
 
 void runHostObjectsBench(const HostObjectsOptions& o) {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <utility>
 
+#include "bench/report_format.h"
 #include "core/atomic_dir.h"
 #include "core/stats.h"
 #include "demo/plot.h"
@@ -36,12 +37,6 @@ const StressRun* findRun(const std::vector<StressRun>& runs, Mode mode, std::uin
 }
 
 bool measured(const StressRun* r) { return r && r->skipped.empty() && !r->frames.empty(); }
-
-std::string format(const char* fmt, double v) {
-  char text[64];
-  std::snprintf(text, sizeof text, fmt, v);
-  return text;
-}
 
 // Markdown cell of a count with thousands separators (10,000).
 std::string withCommas(std::uint64_t n) {

@@ -116,7 +116,8 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // never lit). One lookup per instance here.
   std::vector<std::uint32_t>& level = level_;
   level.assign(instances.size(), 0u);
-  std::vector<std::uint8_t>& flag = flag_;  // here: the instance's block changes level
+  // Per instance: first whether its block changes level, below its state in the relight list.
+  std::vector<std::uint8_t>& flag = flag_;
   flag.assign(instances.size(), 0u);
   parallelEach(instances.size(), [&](std::size_t i) {
     const gs::ObjectInstanceGpu& inst = instances[i];

@@ -43,7 +43,8 @@ class CardLightSlots {
     std::array<std::uint32_t, gpu_shared::kCardLightLevels> atLevel{};  // with cards, per level
   };
 
-  // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id):
+  // For this frame's instances (dense, info.x = mesh, info.y = kObjectFlag* bits, info.z = id,
+  // each id at most once, as InstanceSet's: the per-instance passes run in parallel):
   // sets info.w (block base | level << kCardLightLevelShift, or kNoCardLight when the mesh has
   // no cards or the cap of
   // capacityTexels is reached), frees the blocks of ids not present, and returns the indices (into
