@@ -81,7 +81,10 @@ struct ProbeFieldSettings {
   float sleepThreshold = 0.05f;        // an update is "quiet" when its fresh estimate of the mean
                                        // irradiance is within this of the stored one
   bool relocation = true;              // SDFDDGI Sec. 4.1
-  float relocationMinDistance = 0.2f;  // fraction of the spacing kept free around a probe
+  // Fraction of the spacing kept free between a probe and the static surfaces (moving objects:
+  // kProbeObjectClearance). 0.15 with the crush at 0.05 (docs/DECISIONS.md, "Clearance 0.15,
+  // crush 0.05").
+  float relocationMinDistance = 0.15f;
   enum class Visibility { Chebyshev, Sdf, ChebyshevAndSdf };
   Visibility visibility = Visibility::ChebyshevAndSdf;  // sampling's visibility test
   // With ChebyshevAndSdf: trace the SDF only for the cage corners whose depth moments leave the

@@ -70,16 +70,16 @@ bool probeSdfOpen(ProbeSdf s) { return s.distance >= 0.0f && (s.resident || s.di
 // distance gradient, within the same 0.45-spacing limit, never into static geometry. A probe on
 // an object's face would otherwise be off, and the receivers beside the face would read only the
 // probes a whole spacing away (the bounce right at the face is the strongest). Probes deeper
-// inside than the limit allows stay inside and are turned off. Objects smaller than minDistance
-// (bounding radius) are left out: they shade little of a probe's sphere, and relocating around
+// inside than the limit allows stay inside and are turned off. Objects whose bounding radius is
+// below minRadius are left out: they shade little of a probe's sphere, and relocating around
 // every small mover costs a hit-cache flush per move (the H200 stress scene of 0.3-2 m objects:
 // 16x the fresh rays at 10,000 objects).
 vec3 probeRelocateFromObjects(uint cascade, uint cascadeCount, vec3 gridPos, vec3 offset,
-                              float spacing, float minDistance) {
+                              float spacing, float minDistance, float minRadius) {
   float limit = 0.45f * spacing;
   for (int i = 0; i < 4; ++i) {
     vec3 p = gridPos + offset;
-    vec2 near = objNearestListed(p, cascade, minDistance);
+    vec2 near = objNearestListed(p, cascade, minRadius);
     if (near.x >= minDistance) break;
     uint inst = uint(near.y);
     float h = 0.125f * minDistance;
@@ -257,13 +257,15 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       // probe once rather than every frame, and each move flushes the probe's hit cache
       // (measured on the H200 before this rule: 5x the fresh rays at 1,000 moving objects).
       float minDistance = f.trace.y * spacing;
+      float minRadius = kProbeObjectMinRadius * spacing;
       vec3 previous = vec3(oldData);
-      if (objNearestListed(grid + offset, c, minDistance).x < minDistance) {
+      if (objNearestListed(grid + offset, c, minRadius).x < minDistance) {
         bool keep = !entered && previous != offset &&
                     probeSdfOpen(probeSdfAt(c, f.counts.x, grid + previous)) &&
-                    objNearestListed(grid + previous, c, minDistance).x >= minDistance;
+                    objNearestListed(grid + previous, c, minRadius).x >= minDistance;
         offset = keep ? previous
-                      : probeRelocateFromObjects(c, f.counts.x, grid, offset, spacing, minDistance);
+                      : probeRelocateFromObjects(c, f.counts.x, grid, offset, spacing, minDistance,
+                                                 minRadius);
       }
     }
 #endif

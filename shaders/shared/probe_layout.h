@@ -37,11 +37,17 @@ SDF_CONST float kProbeDefaultHysteresis = 0.97f;
 SDF_CONST float kProbeDefaultSelfShadowBias = 0.3f;  // B in Majercik 2021 Eq. 2 (Sec. 4.1)
 SDF_CONST float kProbeBackfaceDepthScale = 0.2f;     // backface hits: depth shortened by 80% (4.1)
 SDF_CONST float kProbeMinVariance = 1e-4f;           // Chebyshev variance clamp, voxels²
-// Corner weights below this are crushed (w^3 / c^2; Majercik 2019 and H22 Eq. 4.10 use 0.2). The
-// Breakfast Room's mean (full mode, H100) reads 0.918 of the reference at 0.2, 0.986 at 0.1 and
-// 1.024 at 0.05, its relMSE 0.058 / 0.067 / 0.077; the other scenes are unchanged
-// (docs/DECISIONS.md, "Corner weights crushed below 0.1, not 0.2").
-SDF_CONST float kProbeCrushThreshold = 0.1f;
+// Corner weights below this are crushed (w^3 / c^2; Majercik 2019 and H22 Eq. 4.10 use 0.2). A
+// lighter crush keeps the light of corners Chebyshev finds barely visible; it goes with the
+// relocation clearance (ProbeFieldSettings::relocationMinDistance), which trades the same light
+// (docs/DECISIONS.md, "Corner weights crushed below 0.1, not 0.2" and "Clearance 0.15, crush
+// 0.05").
+SDF_CONST float kProbeCrushThreshold = 0.05f;
+// Moving objects whose bounding radius is below this fraction of the spacing move no probe (they
+// shade little of a probe's sphere, and each move flushes the probe's hit cache); the stress
+// scene's cost was measured with this rule (docs/DECISIONS.md, "Probes near moving objects:
+// relocated away from them, alive beside them"). Larger ones keep the static clearance free.
+SDF_CONST float kProbeObjectMinRadius = 0.2f;
 
 // Probe states (M21 Sec. 5, "probe classification"), stored in ProbeData.w as a float.
 SDF_CONST uint kProbeOff = 0u;       // inside geometry or no surface within its cage: never traced
