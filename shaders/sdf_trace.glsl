@@ -87,8 +87,20 @@ ivec3 sdfPageOf(vec3 p) {
   return clamp(ivec3(floor(p * 0.125f)), ivec3(0), ivec3(15));
 }
 
-SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
+// The page a ray at p heading along dir is in: sdfPageOf(p), except where p lies exactly on the
+// low face of that page and the ray heads out through it: then the page beyond. A ray that starts
+// on a page face, or runs along one (a camera on a page boundary looking along it), sits there
+// exactly; in the page behind the face its exit is already behind it, and a page without a
+// surface would then never be left (the leap cannot move past the exit it is on).
+ivec3 sdfPageAlong(vec3 p, vec3 dir) {
   ivec3 page = sdfPageOf(p);
+  for (int a = 0; a < 3; ++a)
+    if (dir[a] < 0.0f && page[a] > 0 && p[a] == float(page[a]) * 8.0f) page[a] -= 1;
+  return page;
+}
+
+// The sample at p (cascade voxels) read from `page`, which holds p on its box, faces included.
+SdfSample sdfSamplePage(vec3 p, ivec3 page, uvec4 toroidalOffset) {
   uint entry = SDF_PAGE(sdfPageIndex(page, toroidalOffset));
   SdfSample s;
   s.exitT = 0.0f;
@@ -104,6 +116,10 @@ SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
     s.distance = s.missing ? 0.0f : float(entry & 0x7fffffffu);
   }
   return s;
+}
+
+SdfSample sdfSampleCascade(vec3 p, uvec4 toroidalOffset) {
+  return sdfSamplePage(p, sdfPageOf(p), toroidalOffset);
 }
 
 // Ray parameter at which the ray leaves the axis-aligned box [lo, hi] (it starts inside).
@@ -226,7 +242,8 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
     if (t > tEnd) return r;
     r.steps = i + 1u;
     SDF_PRECISE vec3 p = origin + dir * t;
-    SdfSample s = sdfSampleCascade(p, toroidalOffset);
+    ivec3 page = sdfPageAlong(p, dir);
+    SdfSample s = sdfSamplePage(p, page, toroidalOffset);
     if (s.resident) {
       if (relaxedStep && 0.9f * (stepFromDistance + s.distance) < stepLength) {
         // The spheres leave a gap a surface could hide in: back to the plain step.
@@ -247,17 +264,19 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
         for (int k = 0; k < 2; ++k) {
           if (abs(s.distance) >= hitEpsilon || t + s.distance < tMin) break;
           SDF_PRECISE vec3 q = origin + dir * (t + s.distance);
-          SdfSample sq = sdfSampleCascade(q, toroidalOffset);
+          ivec3 pageQ = sdfPageAlong(q, dir);
+          SdfSample sq = sdfSamplePage(q, pageQ, toroidalOffset);
           if (!sq.resident) break;
           t = t + s.distance;
           p = q;
           s = sq;
+          page = pageQ;
         }
         r.hit = true;
         r.t = t;
         r.position = p;
+        // The material cell of the brick that was read (p may lie on its high face).
         r.slot = s.slot;
-        ivec3 page = sdfPageOf(p);
         ivec3 cellXyz = clamp(ivec3(floor(p - vec3(page) * 8.0f)), ivec3(0), ivec3(7));
         r.cell = uint(cellXyz.x + 8 * (cellXyz.y + 8 * cellXyz.z));
         return r;
@@ -277,7 +296,6 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
       return r;
     } else {
       // No surface inside this page: leap to its far side, or farther when the bound allows.
-      ivec3 page = sdfPageOf(p);
       vec3 lo = vec3(page) * 8.0f;
       float exitT = sdfBoxExit(origin, invDir, lo, lo + vec3(8.0f));
       t = max(exitT + 1e-3f, t + s.distance);

@@ -36,6 +36,47 @@ std::vector<gpu_shared::TraceRay> raysFromCamera(const StreamedBunny& b, const C
   return rays;
 }
 
+// A ray that runs exactly along a page face, heading out through it (a camera on a page boundary
+// looking along it: every pixel of the centre column), sits on the face of the page floor() gives
+// and must be traced in the page beyond. Rays from points on cascade-0 page faces (x, and x and
+// y, multiples of 8 voxels) towards the camera's hits on the bunny, moved onto the face plane,
+// with the crossing components a hair negative (onFace), and the same rays started a thousandth
+// of a voxel inside the page beyond (beside).
+struct FaceRays {
+  std::vector<gpu_shared::TraceRay> onFace, beside;
+};
+
+FaceRays raysAlongPageFaces(const StreamedBunny& b, const CascadeStackImage& img) {
+  auto cameraRays = raysFromCamera(b, img, 2000);
+  auto cameraHits = traceStackCpu(img, cameraRays, TraceSettings{});
+  FaceRays out;
+  for (size_t i = 0; i < cameraRays.size(); ++i) {
+    if (!(cameraHits[i].flags & gpu_shared::kHitFlagHit)) continue;
+    if ((cameraHits[i].flags >> gpu_shared::kHitCascadeShift) & 15) continue;  // cascade 0 only
+    const glm::vec3 hit = glm::vec3(cameraRays[i].originTMin) +
+                          glm::vec3(cameraRays[i].dirTMax) * cameraHits[i].normalT.w;
+    const bool both = out.onFace.size() % 2 == 1;  // every other ray on an x and a y face
+    glm::vec3 from = glm::vec3(cameraRays[i].originTMin);
+    from.x = 8.0f * std::round(hit.x / 8.0f);
+    if (both) from.y = 8.0f * std::round(hit.y / 8.0f);
+    glm::vec3 to = hit;
+    to.x = from.x;
+    if (both) to.y = from.y;
+    glm::vec3 dir = to - from;
+    if (glm::length(dir) < 8.0f) continue;
+    dir = glm::normalize(dir);
+    dir.x = -1e-6f;
+    if (both) dir.y = -1e-6f;
+    gpu_shared::TraceRay r{};
+    r.originTMin = glm::vec4(from, 0.0f);
+    r.dirTMax = glm::vec4(dir, 1e30f);
+    out.onFace.push_back(r);
+    r.originTMin = glm::vec4(from - glm::vec3(1e-3f, both ? 1e-3f : 0.0f, 0.0f), 0.0f);
+    out.beside.push_back(r);
+  }
+  return out;
+}
+
 class StackTrace : public test::GpuTest {};
 
 TEST_F(StackTrace, GpuMatchesCpuAndEmbreeThroughStreamedCascades) {
@@ -96,6 +137,30 @@ TEST_F(StackTrace, GpuMatchesCpuAndEmbreeThroughStreamedCascades) {
               100.0 * agree / considered, considered, median, dt[dt.size() * 9 / 10]);
   EXPECT_GE(double(agree) / considered, 0.98);
   EXPECT_LE(median, 0.5);
+}
+
+// The GPU takes the same page along a face as the CPU reference.
+TEST_F(StackTrace, GpuRaysAlongAPageFaceMatchTheCpu) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  const FaceRays rays = raysAlongPageFaces(b, img);
+  ASSERT_GT(rays.onFace.size(), 200u);
+  auto cpu = traceStackCpu(img, rays.onFace, TraceSettings{});
+  GpuStackTracer gpuTracer(ctx(), *b.stack);
+  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  gpuTracer.sync(*b.stack, all);
+  auto gpu = gpuTracer.trace(rays.onFace, TraceSettings{});
+  int mismatched = 0, hits = 0;
+  for (size_t i = 0; i < rays.onFace.size(); ++i) {
+    hits += cpu[i].flags & gpu_shared::kHitFlagHit;
+    if (gpu[i].flags != cpu[i].flags || std::abs(gpu[i].normalT.w - cpu[i].normalT.w) > 1e-3f)
+      ++mismatched;
+  }
+  std::printf("[figures] %zu rays along page faces, GPU vs CPU: %d hits, %d differ\n",
+              rays.onFace.size(), hits, mismatched);
+  EXPECT_EQ(mismatched, 0);
+  EXPECT_GT(hits, int(rays.onFace.size()) / 2);
 }
 
 TEST(StackTraceCpu, MissingPagesFallBackToACoarserCascade) {
@@ -209,6 +274,32 @@ class ShiftedStore : public TileStore {
   const TileStore& base_;
   glm::ivec3 shift_;
 };
+
+// The rays along the faces hit what the rays beside them hit (CPU reference).
+TEST(StackTraceCpu, RaysAlongAPageFaceHitWhatRaysBesideItHit) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  const FaceRays rays = raysAlongPageFaces(b, img);
+  ASSERT_GT(rays.onFace.size(), 200u);
+  auto faceHits = traceStackCpu(img, rays.onFace, TraceSettings{});
+  auto besideHits = traceStackCpu(img, rays.beside, TraceSettings{});
+  int differ = 0, hits = 0, outOfSteps = 0;
+  for (size_t i = 0; i < rays.onFace.size(); ++i) {
+    const bool a = faceHits[i].flags & gpu_shared::kHitFlagHit;
+    const bool c = besideHits[i].flags & gpu_shared::kHitFlagHit;
+    hits += a;
+    outOfSteps += (faceHits[i].flags & gpu_shared::kHitFlagRanOutOfSteps) ? 1 : 0;
+    if (a != c || (a && std::abs(faceHits[i].normalT.w - besideHits[i].normalT.w) > 0.05f))
+      ++differ;
+  }
+  std::printf(
+      "[figures] %zu rays along page faces: %d hits, %d out of steps, %d differ from the "
+      "rays beside them\n",
+      rays.onFace.size(), hits, outOfSteps, differ);
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(outOfSteps, 0);
+  EXPECT_GT(hits, int(rays.onFace.size()) / 2);
+}
 
 TEST(StackTraceCpu, HundredKilometresFromTheOriginRendersIdentically) {
   StreamedBunny b = streamBunny();
