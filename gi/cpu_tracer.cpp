@@ -54,12 +54,12 @@ struct CascadeTracer {
 
   // Mirrors main() of trace_stack.comp (with the exact rule; the visibility rule is sampling's).
   TraceHit traceStackOne(const TraceRay& ray, const TraceStackPushConstants& pc,
-                         bool visibilityRule) {
+                         bool visibilityRule, bool descend) {
     const SdfStepRule rule =
         visibilityRule ? sdfVisibilitySteps(pc.hitEpsilon) : sdfExactSteps(pc.hitEpsilon);
     SdfStackResult s =
         sdfTraceStackWith(vec3(ray.originTMin), vec3(ray.dirTMax), ray.originTMin.w, ray.dirTMax.w,
-                          pc.maxSteps, rule, pc.firstCascade, pc.cascadeCount);
+                          pc.maxSteps, rule, pc.firstCascade, pc.cascadeCount, descend);
     TraceHit h{};
     h.steps = s.steps;
     h.flags = (s.r.hit ? kHitFlagHit : 0u) | (s.r.ranOutOfSteps ? kHitFlagRanOutOfSteps : 0u) |
@@ -94,7 +94,7 @@ std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
     auto local = tracer;
     for (std::size_t i = range.begin(); i < range.end(); ++i)
-      hits[i] = local.traceStackOne(rays[i], pc, settings.visibilityRule);
+      hits[i] = local.traceStackOne(rays[i], pc, settings.visibilityRule, settings.descend);
   });
   return hits;
 }

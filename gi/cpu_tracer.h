@@ -19,6 +19,9 @@ struct TraceSettings {
   // only, surfaces far from tMax count a quarter voxel thicker) instead of exactly. CPU only:
   // GpuStackTracer traces exactly and rejects it.
   bool visibilityRule = false;
+  // Stack traversal: descend into a finer cascade where the ray enters its window, as camera rays
+  // do (sdfTraceStack); off, as probe rays (sdfTraceStackFrom). CPU only, like visibilityRule.
+  bool descend = false;
 };
 
 // Traces rays (cascade voxel units) against the cascade. Thread-safe; parallel over rays (TBB).

@@ -17,6 +17,9 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
                                                         const TraceSettings& settings) {
   if (settings.visibilityRule)
     throw std::invalid_argument("GpuStackTracer traces exactly; the visibility rule is sampling's");
+  if (settings.descend)
+    throw std::invalid_argument(
+        "GpuStackTracer traces as probe rays do; camera rays descend in the shading pass");
   if (rays.empty()) return {};
   batch_.stage(rays);
   gpu_shared::TraceStackPushConstants pc{std::uint32_t(rays.size()), settings.maxSteps,

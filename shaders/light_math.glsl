@@ -85,7 +85,8 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
     if (t > tEnd) return r;
     r.steps = i + 1u;
     SDF_PRECISE vec3 p = origin + dir * t;
-    SdfSample s = sdfSampleCascade(p, toroidal);
+    ivec3 page = sdfPageAlong(p, dir);  // on a page face: the page the ray heads into
+    SdfSample s = sdfSamplePage(p, page, toroidal);
     if (s.resident && s.distance < hitEpsilon && t < escapeEnd) {
       t += max(abs(s.distance), 0.25f);  // still inside the surface being left
       continue;
@@ -104,7 +105,6 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
       r.missing = true;
       return r;
     } else {
-      ivec3 page = sdfPageOf(p);
       vec3 lo = vec3(page) * 8.0f;
       float exitT = sdfBoxExit(origin, invDir, lo, lo + vec3(8.0f));
       t = max(exitT + 1e-3f, t + s.distance);

@@ -20,7 +20,8 @@ float probeSdfVisibility(ProbeFrame f, uint c, vec3 probe, vec3 receiver) {
   float r = length(d);
   if (r < 1e-4f) return 1.0f;
   SdfStackResult s =
-      sdfTraceStackWith(probe, d / r, 0.0f, r, 64u, sdfVisibilitySteps(f.trace.x), c, f.counts.x);
+      sdfTraceStackWith(probe, d / r, 0.0f, r, 64u, sdfVisibilitySteps(f.trace.x), c, f.counts.x,
+                        false);
   return s.r.hit ? 1e-4f : 1.0f;
 }
 

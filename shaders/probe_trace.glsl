@@ -35,7 +35,7 @@ ProbeRayHit probeHitFromCache(vec3 o, vec3 dir, uvec2 e) {
   if (!r.hit) return r;
   CascadeTraceParams ch = SDF_CASCADE(r.cascade);
   vec3 p = (o + dir * r.t0 - vec3(ch.offsetScale.x, ch.offsetScale.y, ch.offsetScale.z)) / ch.offsetScale.w;
-  ivec3 page = sdfPageOf(p);
+  ivec3 page = sdfPageAlong(p, dir);  // the page a fresh trace reads its material from
   uint entry = SDF_PAGE(sdfPageIndex(page, ch.toroidal));
   if ((entry & kPageResidentBit) == 0u) {
     r.hit = false;

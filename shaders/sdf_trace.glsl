@@ -335,9 +335,15 @@ struct SdfStackResult {
 
 // As sdfTraceStack, but starting in cascade `firstCascade`: a probe of cascade c traces the
 // detail of its own cascade and coarser ones only (SDFGI slides, "Overview of tracing light":
-// "the ray is sphere traced from the current cascade to upper cascades").
+// "the ray is sphere traced from the current cascade to upper cascades"). With `descend`, a ray
+// that starts outside a finer window (a camera outside cascade 0's window: `render` centres the
+// stack on its target) switches to the finer cascade where it enters its window, so it hits the
+// finest surface there instead of a coarse level's, which the conservative min-filter dilates
+// by up to a coarse voxel (rounded corners). Windows are nested boxes, so a ray enters each at
+// most once, and a ray that starts inside cascade firstCascade's window never descends.
 SdfStackResult sdfTraceStackWith(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
-                                 SdfStepRule rule, uint firstCascade, uint cascadeCount) {
+                                 SdfStepRule rule, uint firstCascade, uint cascadeCount,
+                                 bool descend) {
   SdfStackResult res;
   res.t0 = -1.0f;
   res.cascade = firstCascade;
@@ -351,17 +357,39 @@ SdfStackResult sdfTraceStackWith(vec3 origin0, vec3 dir, float tMin0, float tMax
   res.r.hit = false;
   res.r.ranOutOfSteps = false;
   res.r.missingData = false;
+  vec3 invDir = sdfSafeInverse(dir);
   float t0 = tMin0;
-  for (uint c = firstCascade; c < cascadeCount; ++c) {
+  uint c = firstCascade;
+  // Each pass either moves to a coarser cascade or (descend) to a finer one it has not left.
+  for (uint pass = 0u; pass < 2u * kMaxCascades + 1u && c < cascadeCount; ++pass) {
     CascadeTraceParams cp = SDF_CASCADE(c);
     float scale = cp.offsetScale.w;  // cascade voxel / cascade-0 voxel = 2^c
     SDF_PRECISE vec3 o = (origin0 - vec3(cp.offsetScale.x, cp.offsetScale.y, cp.offsetScale.z)) / scale;
     // The ray continues in the finest cascade that holds its current point: a cascade whose
     // window does not (a probe grid overhanging its window) is skipped, never entered later
     // along the ray (the rest of that stretch would otherwise be traced nowhere).
-    if (!sdfInsideWindow(o + dir * (t0 / scale))) continue;
+    if (!sdfInsideWindow(o + dir * (t0 / scale))) {
+      ++c;
+      continue;
+    }
+    // Descending: stop where the ray enters the first finer window ahead of it.
+    float tStop0 = tMax0;
+    uint finer = c;
+    if (descend) {
+      for (uint j = firstCascade; j < c; ++j) {
+        CascadeTraceParams cj = SDF_CASCADE(j);
+        SDF_PRECISE vec3 oj =
+            (origin0 - vec3(cj.offsetScale.x, cj.offsetScale.y, cj.offsetScale.z)) / cj.offsetScale.w;
+        vec2 span = sdfBoxClip(oj, invDir, vec3(0.0f), vec3(128.0f));
+        float enter0 = span.x * cj.offsetScale.w;
+        if (span.x <= span.y && enter0 > t0 && enter0 < tStop0) {
+          tStop0 = enter0;
+          finer = j;
+        }
+      }
+    }
     uint budget = maxSteps > res.steps ? maxSteps - res.steps : 0u;
-    SdfTraceResult r = sdfTraceWith(o, dir, t0 / scale, tMax0 / scale, budget, rule, cp.toroidal);
+    SdfTraceResult r = sdfTraceWith(o, dir, t0 / scale, tStop0 / scale, budget, rule, cp.toroidal);
     res.steps += r.steps;
     res.r = r;
     res.cascade = c;
@@ -373,13 +401,20 @@ SdfStackResult sdfTraceStackWith(vec3 origin0, vec3 dir, float tMin0, float tMax
     if (r.missingData) {
       res.fellBack = true;
       t0 = r.t * scale;  // continue at the same point, one cascade coarser
-    } else {
-      // Left the window (or tMax): continue from where this cascade's box ends.
-      vec2 span = sdfBoxClip(o, sdfSafeInverse(dir), vec3(0.0f), vec3(128.0f));
-      float exitT0 = span.y * scale;
-      if (exitT0 >= tMax0) return res;
-      t0 = max(t0, exitT0);
+      ++c;
+      continue;
     }
+    // Left the window, reached tMax, or (descending) reached a finer window.
+    vec2 span = sdfBoxClip(o, invDir, vec3(0.0f), vec3(128.0f));
+    float exitT0 = span.y * scale;
+    if (finer != c && tStop0 < exitT0) {
+      t0 = max(t0, tStop0);
+      c = finer;
+      continue;
+    }
+    if (exitT0 >= tMax0) return res;
+    t0 = max(t0, exitT0);
+    ++c;
   }
   return res;
 }
@@ -387,11 +422,13 @@ SdfStackResult sdfTraceStackWith(vec3 origin0, vec3 dir, float tMin0, float tMax
 SdfStackResult sdfTraceStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
                                  float hitEpsilon, uint firstCascade, uint cascadeCount) {
   return sdfTraceStackWith(origin0, dir, tMin0, tMax0, maxSteps, sdfExactSteps(hitEpsilon),
-                           firstCascade, cascadeCount);
+                           firstCascade, cascadeCount, false);
 }
 
+// A camera ray: every cascade, descending into finer windows it enters.
 SdfStackResult sdfTraceStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
                              float hitEpsilon, uint cascadeCount) {
-  return sdfTraceStackFrom(origin0, dir, tMin0, tMax0, maxSteps, hitEpsilon, 0u, cascadeCount);
+  return sdfTraceStackWith(origin0, dir, tMin0, tMax0, maxSteps, sdfExactSteps(hitEpsilon), 0u,
+                           cascadeCount, true);
 }
 #endif  // SDF_CASCADE

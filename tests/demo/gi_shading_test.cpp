@@ -16,6 +16,7 @@
 #include "gi/light_cache.h"
 #include "tests/demo/demo_gi_scene.h"
 #include "tests/support/gpu_test.h"
+#include "tests/support/streamed_bunny.h"
 
 namespace sdfstream {
 namespace {
@@ -81,6 +82,48 @@ TEST_F(DemoGiTest, ShadePassMatchesCpuReference) {
     // thousand to round across a threshold.
     EXPECT_LE(flagMismatch + valueMismatch, cpu.size() / 1000);
   }
+}
+
+// Camera rays descend into a finer cascade where they enter its window (sdfTraceStack): from a
+// camera outside cascade 0 of the streamed bunny's 3-cascade stack, the GPU pass hits where the
+// CPU reference does, cascade 0 included.
+TEST_F(DemoGiTest, ShadePassFromOutsideCascadeZeroMatchesCpuReference) {
+  test::StreamedBunny b = test::streamBunny();
+  const CascadeStackImage image = b.stack->stackImage();
+  const glm::dvec3 toward = glm::normalize(b.camera - glm::dvec3(0.0, 0.1, 0.0));
+  Camera camera;
+  camera.position = b.camera + toward * (1.2 * 64.0 * image.voxelSize0);  // outside cascade 0
+  camera.target = glm::dvec3(0.0, 0.1, 0.0);
+  camera.fovYDegrees = 30.0;
+  const auto rays = primaryRaysFrom(camera, 96, 64, image.toStack(camera.position));
+  const SceneLights lights = testLights();
+  const auto gpuLights = toGpu(lights.lights, image);
+  const auto sky = toGpu(SceneSky{glm::vec3(0.2f, 0.3f, 0.6f), glm::vec3(0.5f)});
+  ShadingSettings settings;
+  GpuStackScene scene(ctx());
+  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  scene.sync(*b.stack, all);
+  PrimaryShadePass pass(ctx());
+  const auto gpu = pass.run(scene, nullptr, rays, gpuLights, sky, settings, image.voxelSize0);
+  const auto cpu = shadePrimaryCpu(image, rays, gpuLights, sky, settings, {});
+  ASSERT_EQ(gpu.size(), cpu.size());
+  std::size_t inCascade0 = 0, hits = 0, mismatched = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    if (gpu[i].flags != cpu[i].flags || std::abs(gpu[i].normalT.w - cpu[i].normalT.w) > 1e-3f) {
+      ++mismatched;
+      continue;
+    }
+    if (!(cpu[i].flags & gpu_shared::kHitFlagHit)) continue;
+    ++hits;
+    inCascade0 += ((cpu[i].flags >> gpu_shared::kHitCascadeShift) & 15) == 0 ? 1 : 0;
+  }
+  std::printf(
+      "[figures] from outside cascade 0: %zu hits of %zu rays, %zu in cascade 0, %zu "
+      "differ GPU vs CPU\n",
+      hits, cpu.size(), inCascade0, mismatched);
+  EXPECT_GT(inCascade0, 100u);
+  EXPECT_LE(mismatched, cpu.size() / 1000);
 }
 
 TEST_F(DemoGiTest, IndirectLightFillsShadowAndRedWallTintsFloor) {

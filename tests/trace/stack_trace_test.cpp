@@ -301,6 +301,79 @@ TEST(StackTraceCpu, RaysAlongAPageFaceHitWhatRaysBesideItHit) {
   EXPECT_GT(hits, int(rays.onFace.size()) / 2);
 }
 
+// Camera rays (sdfTraceStack, TraceSettings::descend) from a camera outside cascade 0's window:
+// they switch to cascade 0 where they enter its window and hit the bunny's fine surface; rays
+// that stay in the cascade they start in (as probe rays do) hit cascade 1's, which the LOD
+// chain's min-filter dilates. Against Embree on the source triangles, in cascade-0 voxels, for the
+// rays whose surface lies inside cascade 0's window.
+TEST(StackTraceCpu, CameraRaysFromOutsideCascadeZeroDescendToItsSurface) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  // 1.2 cascade-0 half-windows behind the streaming camera: outside cascade 0, inside cascade 1.
+  const glm::dvec3 toward = glm::normalize(b.camera - glm::dvec3(0.0, 0.1, 0.0));
+  const glm::dvec3 camera = b.camera + toward * (1.2 * 64.0 * img.voxelSize0);
+  const glm::vec3 origin = img.toStack(camera);
+  const gpu_shared::CascadeTraceParams& c0 = img.params[0];
+  const glm::vec3 in0 = (origin - glm::vec3(c0.offsetScale)) / c0.offsetScale.w;
+  ASSERT_TRUE(glm::any(glm::lessThan(in0, glm::vec3(0.0f))) ||
+              glm::any(glm::greaterThan(in0, glm::vec3(128.0f))));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const glm::dvec3 lo(b.triangles.boundsMin()), hi(b.triangles.boundsMax());
+  std::vector<gpu_shared::TraceRay> rays(6000);
+  for (auto& r : rays) {
+    const glm::dvec3 target = lo + (hi - lo) * glm::dvec3(u(rng), u(rng), u(rng));
+    r.originTMin = glm::vec4(origin, 0.0f);
+    r.dirTMax = glm::vec4(glm::vec3(glm::normalize(target - camera)), 1e30f);
+  }
+  TraceSettings descending;
+  descending.descend = true;
+  const auto fine = traceStackCpu(img, rays, descending);
+  const auto coarse = traceStackCpu(img, rays, TraceSettings{});
+  EmbreeScene embree(b.triangles);
+  std::vector<double> dtFine, dtCoarse;
+  int considered = 0, agreeFine = 0, fineInCascade0 = 0, coarseInCascade0 = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const glm::vec3 dir(rays[i].dirTMax);
+    const auto ref = embree.intersect(glm::vec3(camera), dir, 0.0f, 1e30f);
+    if (!ref || std::abs(glm::dot(ref->normal, dir)) < 0.2f) continue;  // a miss or grazing
+    // Only surfaces well inside cascade 0's window (most of the bunny lies in cascade 1's).
+    const glm::vec3 at =
+        (origin + dir * float(ref->t / img.voxelSize0) - glm::vec3(c0.offsetScale)) /
+        c0.offsetScale.w;
+    if (glm::any(glm::lessThan(at, glm::vec3(4.0f))) ||
+        glm::any(glm::greaterThan(at, glm::vec3(124.0f))))
+      continue;
+    ++considered;
+    const bool f = fine[i].flags & gpu_shared::kHitFlagHit;
+    const bool c = coarse[i].flags & gpu_shared::kHitFlagHit;
+    agreeFine += f == bool(ref);
+    fineInCascade0 += f && ((fine[i].flags >> gpu_shared::kHitCascadeShift) & 15) == 0;
+    coarseInCascade0 += c && ((coarse[i].flags >> gpu_shared::kHitCascadeShift) & 15) == 0;
+    if (ref && f)
+      dtFine.push_back(std::abs(fine[i].normalT.w * img.voxelSize0 - ref->t) / img.voxelSize0);
+    if (ref && c)
+      dtCoarse.push_back(std::abs(coarse[i].normalT.w * img.voxelSize0 - ref->t) / img.voxelSize0);
+  }
+  ASSERT_GT(dtFine.size(), 200u);
+  ASSERT_GT(dtCoarse.size(), 200u);
+  std::sort(dtFine.begin(), dtFine.end());
+  std::sort(dtCoarse.begin(), dtCoarse.end());
+  const double medianFine = dtFine[dtFine.size() / 2], medianCoarse = dtCoarse[dtCoarse.size() / 2];
+  std::printf(
+      "[figures] camera outside cascade 0: %d non-grazing rays, descending: %d hits in "
+      "cascade 0, agreement %.3f, median |dt| %.3f voxels (p90 %.3f); staying: %d in "
+      "cascade 0, median |dt| %.3f (p90 %.3f)\n",
+      considered, fineInCascade0, double(agreeFine) / considered, medianFine,
+      dtFine[dtFine.size() * 9 / 10], coarseInCascade0, medianCoarse,
+      dtCoarse[dtCoarse.size() * 9 / 10]);
+  EXPECT_EQ(coarseInCascade0, 0);
+  EXPECT_GT(fineInCascade0, int(dtFine.size()) * 9 / 10);
+  EXPECT_GE(double(agreeFine) / considered, 0.98);
+  EXPECT_LE(medianFine, 0.5);
+  EXPECT_LT(medianFine, 0.5 * medianCoarse);
+}
+
 TEST(StackTraceCpu, HundredKilometresFromTheOriginRendersIdentically) {
   StreamedBunny b = streamBunny();
   const PartitionSpec& spec = b.store->spec();
