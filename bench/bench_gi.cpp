@@ -231,9 +231,9 @@ void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::pa
       ConfigResult r = runConfig(sc, c, &e, into);
       std::printf(
           "    %-22s update %8.2f ms  sample %7.2f ms  relMSE %8.4f  FLIP %.4f  E/Eref %.3f  "
-          "converge %3d  %6.1f MiB  (%.0f s)\n",
-          c.name.c_str(), r.updateMs, r.sampleMs, r.relMSE, r.flip, r.energyRatio, r.framesToConverge,
-          r.memoryMiB(), r.wallSeconds);
+          "flat spread %.3f (ref %.3f)  converge %3d  %6.1f MiB  (%.0f s)\n",
+          c.name.c_str(), r.updateMs, r.sampleMs, r.relMSE, r.flip, r.energyRatio, r.flatSpread,
+          r.flatSpreadReference, r.framesToConverge, r.memoryMiB(), r.wallSeconds);
       std::fflush(stdout);
       if ((isDefault || isBaseline) && !points.reference.empty())
         for (std::size_t view = 0; view < points.views(); ++view)

@@ -156,7 +156,7 @@ std::string resultsCsv(const std::vector<SceneReport>& scenes) {
          "select_ms,trace_ms,blend_ms,border_ms,probes_updated,rays_traced,rays_cached,steps,"
          "relmse,flip,energy_ratio,frames_to_converge,probe_mib,light_mib,atlas_mib,memory_mib,"
          "pareto,"
-         "wall_s\n";
+         "wall_s,flat_spread,flat_spread_reference\n";
   for (const SceneReport& s : scenes)
     for (const ConfigResult& c : s.configs) {
       auto pass = [&](const char* n) {
@@ -173,7 +173,8 @@ std::string resultsCsv(const std::vector<SceneReport>& scenes) {
           << ',' << c.probesUpdated << ',' << c.raysTraced << ',' << c.raysCached << ',' << c.steps
           << ',' << c.relMSE << ',' << c.flip << ',' << c.energyRatio << ',' << c.framesToConverge
           << ',' << c.probeMiB << ',' << c.lightMiB << ',' << c.atlasMiB << ',' << c.memoryMiB()
-          << ',' << c.pareto << ',' << c.wallSeconds << '\n';
+          << ',' << c.pareto << ',' << c.wallSeconds << ',' << c.flatSpread << ','
+          << c.flatSpreadReference << '\n';
     }
   return csv.str();
 }

@@ -43,6 +43,9 @@ struct ConfigResult {
   double relMSE = -1.0;       // < 0: no reference
   double flip = -1.0;         // mean over views
   double energyRatio = 0.0;   // mean luminance of E over mean of E_ref: bias apart from noise
+  // Splotches: relative spread of E's and of E_ref's luminance over each view's largest flat
+  // region (reference::flatRegionSpread); < 0: no region or no reference.
+  double flatSpread = -1.0, flatSpreadReference = -1.0;
   int framesToConverge = -1;  // after the light switches back on; -1 = not within the cap
   int convergeCap = 0;
   // Device memory, MiB.

@@ -16,6 +16,7 @@
 #include "demo/frame_image.h"
 #include "gi/gi_system.h"
 #include "gi/probe_math.h"
+#include "reference/flat_regions.h"
 #include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
 #include "reference/path_tracer.h"
@@ -58,6 +59,11 @@ void score(const ViewPoints& points, const std::vector<glm::vec3>& e, ConfigResu
     sumRef += luminance(points.reference[i]);
   }
   r.energyRatio = sumRef > 0.0 ? sumGi / sumRef : 0.0;
+  // Flat regions: normals within ~1° and plane offsets within 1 cm (positions are metres).
+  const reference::FlatSpread flat = reference::flatRegionSpread(
+      points.position, points.normal, points.start, e, points.reference, 0.01);
+  r.flatSpread = flat.gi;
+  r.flatSpreadReference = flat.reference;
   double flipSum = 0.0;
   for (std::size_t k = 0; k < points.views(); ++k) {
     const auto ref =

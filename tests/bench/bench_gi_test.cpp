@@ -38,6 +38,7 @@ TEST(BenchGi, BuiltInCornellBoxWritesCsvSummaryAndPlot) {
   EXPECT_EQ(r.out.find("[vulkan"), std::string::npos) << r.out;  // no validation message
   const std::string csv = test::readText(dir / "out" / "results.csv");
   EXPECT_EQ(csv.rfind("scene,config,family,rays,", 0), 0u) << csv;
+  EXPECT_NE(csv.find(",flat_spread,flat_spread_reference\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find("\ncornell-box,spacing-4,ours,128,4,1,"), std::string::npos) << csv;
   const std::string md = test::readText(dir / "out" / "summary.md");
   EXPECT_NE(md.find("built in code from Cornell's measurements"), std::string::npos) << md;
