@@ -92,11 +92,12 @@ ivec3 sdfPageOf(vec3 p) {
 // on a page face, or runs along one (a camera on a page boundary looking along it), sits there
 // exactly; in the page behind the face its exit is already behind it, and a page without a
 // surface would then never be left (the leap cannot move past the exit it is on).
+// Branch-free and without indexing a vector by a variable (which can put it in local memory).
 ivec3 sdfPageAlong(vec3 p, vec3 dir) {
   ivec3 page = sdfPageOf(p);
-  for (int a = 0; a < 3; ++a)
-    if (dir[a] < 0.0f && page[a] > 0 && p[a] == float(page[a]) * 8.0f) page[a] -= 1;
-  return page;
+  ivec3 back = ivec3(lessThan(dir, vec3(0.0f))) * ivec3(equal(p, vec3(page) * 8.0f)) *
+               ivec3(greaterThan(page, ivec3(0)));
+  return page - back;
 }
 
 // The sample at p (cascade voxels) read from `page`, which holds p on its box, faces included.
