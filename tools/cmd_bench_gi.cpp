@@ -37,6 +37,7 @@ constexpr const char* kHelp =
     "default; plain DDGI = one probe per brick, no relocation/states/hit cache, Chebyshev only)\n"
     "run the GI to convergence and measure GPU time per frame (probe update and sampling, medians\n"
     "of the pass timestamps), relMSE (top 0.1% discarded) and mean FLIP of albedo/pi*E images,\n"
+    "the spread of E over each view's largest flat region against the reference's (splotches),\n"
     "frames to converge after the lights switch off and on, and device memory. The probe rays of\n"
     "one frame are also traced by Embree, OpenVDB and NanoVDB (2 threads) against our GPU\n"
     "traversal. Writes DIR/results.csv, DIR/summary.md, DIR/<scene>/error-vs-time.png and\n"
