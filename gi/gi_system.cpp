@@ -35,6 +35,7 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       objects_(context, settings.objects),
       staging_(context, std::max(1u, settings.framesInFlight)),
       relight_(settings.light.relightPageBudget),
+      lightSwitchCatchUpFrames_(settings.lightSwitchCatchUpFrames),
       lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {}
 
 // Frames still in flight keep their batches (query pools) alive until the GPU is done with them:
@@ -133,8 +134,11 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
       lights.version != lightsVersion_ || lights.lights.size() != lightCount_;
   // A small change (a sun turning a fraction of a degree a frame) is a drift for the probes: the
   // light cache and the cards still relight (within their budgets), but no probe wakes.
-  const bool lightsDrifted = lightsChanged && lightsVersion_ != ~std::uint64_t(0) &&
-                             isLightDrift(lastLights_, lights, lightDrift_);
+  const bool firstLights = lightsVersion_ == ~std::uint64_t(0);
+  const bool lightsDrifted =
+      lightsChanged && !firstLights && isLightDrift(lastLights_, lights, lightDrift_);
+  if (lightsChanged && !firstLights && !lightsDrifted)
+    catchUpFramesLeft_ = lightSwitchCatchUpFrames_;
   if (lightsChanged) lastLights_ = lights;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();
@@ -170,8 +174,16 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   inputs.lightsChanged = inputs.lightsChanged || (lightsChanged && !lightsDrifted);
   inputs.lightsDrifting = inputs.lightsDrifting || lightsDrifted;
   stats.probesPaused = inputs.paused;
-  if (!inputs.paused)
+  if (!inputs.paused) {
     probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
+    if (catchUpFramesLeft_ > 0) {
+      // The same frame again (same rays, same probes): one more bounce of the new light.
+      --catchUpFramesLeft_;
+      probe::ProbeFrameInputs again = inputs;
+      again.lightsChanged = false;
+      probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), again, frame);
+    }
+  }
   stats.pagesRelit = light_.pagesRelitLastUpdate();
   stats.bytesUploaded = staging_.bytesThisFrame();
   previous_ = std::make_unique<CascadeStackImage>(image);

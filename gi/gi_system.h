@@ -39,6 +39,12 @@ struct GiSettings {
   ObjectSceneSettings objects;
   // Frames record() may run ahead of the GPU; each owns its staging and readback memory.
   std::uint32_t framesInFlight = 2;
+  // Frames after a light switch (not a drift, not the first frame) that run a second probe
+  // update: each update adds one bounce of the new light, so an interior whose light is mostly
+  // multi-bounce recovers sooner, for one more update's GPU time in each (both updates are in
+  // GiFrameStats::passes; GiFrameStats::probes counts the second). A paused field's catch-up
+  // waits until it runs again.
+  std::uint32_t lightSwitchCatchUpFrames = 8;
 };
 
 struct GiFrameStats {
@@ -165,6 +171,8 @@ class GiSystem {
   std::unique_ptr<CascadeStackImage> previous_;
   LightRelightQueue relight_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
+  const std::uint32_t lightSwitchCatchUpFrames_;
+  std::uint32_t catchUpFramesLeft_ = 0;  // frames with a second probe update still to run
   std::size_t lightCount_ = 0;
   SceneLights lastLights_;  // the previous frame's, to tell a drift from a change
   LightDriftLimits lightDrift_;
