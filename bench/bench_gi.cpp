@@ -333,7 +333,7 @@ std::vector<std::string> defaultGiBenchScenes(const GiBenchOptions& opt) {
   if (opt.quick)
     return {"cornell-box", fs::exists(opt.data / "breakfast-room") ? "breakfast-room" : "bunny"};
   if (opt.gpuTable) return {"sponza"};
-  return {"cornell-box", "sponza", "breakfast-room", "courtyard", "large-world"};
+  return {"cornell-box", "sponza", "breakfast-room", "courtyard", "emissive-room", "large-world"};
 }
 
 int runGiBench(const GiBenchOptions& opt) {

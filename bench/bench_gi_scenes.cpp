@@ -371,12 +371,78 @@ BenchScene courtyardScene(bool withSun) {
   b.triangles = std::make_unique<TriangleScene>(std::move(s));
   return b;
 }
+// An interior lit only by what it emits: a closed 6 x 3 x 8 m room (0.2 m walls, no window, no
+// sun, a black sky) with two warm panels hanging 0.4 m below the ceiling, a blue screen standing
+// 0.3 m off a wall, a red wall, a table and a shelf. Every bit of light reaches a receiver
+// through the probes (emission is the light cache's, no delta light): DDGI's emissive case, with
+// emitters a few probe spacings across and at least two voxels from any other surface, so no
+// voxel of a wall takes an emitter's material.
+TriangleScene builtInEmissiveRoom() {
+  TriangleScene s;
+  s.source = "built-in emissive room";
+  const std::uint32_t plaster = addMaterial(s, glm::vec3(0.7f, 0.68f, 0.64f), "plaster");
+  const std::uint32_t floor = addMaterial(s, glm::vec3(0.4f, 0.3f, 0.22f), "floor");
+  const std::uint32_t red = addMaterial(s, glm::vec3(0.6f, 0.1f, 0.08f), "red");
+  const std::uint32_t wood = addMaterial(s, glm::vec3(0.5f, 0.36f, 0.2f), "wood");
+  auto emitter = [&](glm::vec3 albedo, glm::vec3 emission, const std::string& name) {
+    const std::uint32_t m = addMaterial(s, albedo, name);
+    s.materials[m].emissive = emission;
+    return m;
+  };
+  const std::uint32_t panel = emitter(glm::vec3(0.8f), glm::vec3(4.0f, 3.6f, 2.9f), "panel");
+  const std::uint32_t screen = emitter(glm::vec3(0.1f), glm::vec3(0.5f, 1.1f, 3.0f), "screen");
+  const float x = 3.0f, z = 4.0f, h = 3.0f, w = 0.2f;
+  addBox(s, {-x - w, -w, -z - w}, {x + w, 0.0f, z + w}, floor);    // floor slab
+  addBox(s, {-x - w, h, -z - w}, {x + w, h + w, z + w}, plaster);  // ceiling slab
+  // The walls meet the slabs and each other along shared edges: the mesh is open, as most
+  // levels are, and imports as shells (world/mesh_to_sdf.h). Made closed (walls reaching into
+  // the slabs), OpenVDB's sign flood fill finds the room's air enclosed and turns it solid.
+  addBox(s, {-x - w, 0.0f, -z - w}, {x + w, h, -z}, plaster);  // -z wall
+  addBox(s, {-x - w, 0.0f, z}, {x + w, h, z + w}, plaster);    // +z wall
+  addBox(s, {-x - w, 0.0f, -z}, {-x, h, z}, red);              // -x wall, red
+  addBox(s, {x, 0.0f, -z}, {x + w, h, z}, plaster);            // +x wall
+  // Two panels (2.4 x 1 m, 0.1 m thick) hanging 0.4 m below the ceiling.
+  for (const float pz : {-2.0f, 2.0f})
+    addBox(s, {-1.2f, h - 0.5f, pz - 0.5f}, {1.2f, h - 0.4f, pz + 0.5f}, panel);
+  // A screen (1.6 x 0.9 m, 0.1 m thick) 0.3 m off the +x wall, a table below the first panel,
+  // a shelf against the -z wall.
+  addBox(s, {x - 0.4f, 1.0f, 0.5f}, {x - 0.3f, 1.9f, 2.1f}, screen);
+  addBox(s, {-0.8f, 0.72f, -2.5f}, {0.8f, 0.78f, -1.5f}, wood);  // table top
+  for (const glm::vec2 leg : {glm::vec2(-0.75f, -2.45f), glm::vec2(0.7f, -2.45f),
+                              glm::vec2(-0.75f, -1.6f), glm::vec2(0.7f, -1.6f)})
+    addBox(s, {leg.x, 0.0f, leg.y}, {leg.x + 0.05f, 0.72f, leg.y + 0.05f}, wood);
+  addBox(s, {-2.5f, 0.0f, -z}, {-0.5f, 2.0f, -z + 0.4f}, wood);  // shelf against -z
+  return s;
+}
+
+BenchScene emissiveRoomScene() {
+  BenchScene b;
+  b.name = "emissive-room";
+  TriangleScene s = builtInEmissiveRoom();
+  describeBounds(s);
+  b.voxelSize = 0.05;  // cascade 0 = 6.4 m: the 8 m room needs cascade 1 at its ends
+  b.lods = 3;
+  b.defaultCascades = 2;
+  b.cascadeSweep = {2, 3};
+  b.lights.sky = SceneSky{};  // black: the room is closed anyway
+  b.streamCamera = glm::dvec3(0.0, 1.6, 1.0);
+  b.viewDirection = glm::normalize(glm::vec3(0.0f, -0.1f, -1.0f));
+  b.views.push_back(lookAt(glm::vec3(1.5f, 1.6f, 3.6f), glm::vec3(-0.5f, 0.8f, -3.0f), 70.0f));
+  b.viewNames.push_back("room");
+  b.views.push_back(lookAt(glm::vec3(-2.4f, 1.4f, -0.5f), glm::vec3(3.0f, 1.2f, 1.5f), 70.0f));
+  b.viewNames.push_back("screen");
+  b.description =
+      "built-in emissive room (6 x 3 x 8 m, closed, no sun, black sky): lit only by two "
+      "hanging panels and a blue screen";
+  b.triangles = std::make_unique<TriangleScene>(std::move(s));
+  return b;
+}
 }  // namespace
 
 const std::vector<std::string>& benchSceneNames() {
   static const std::vector<std::string> names = {"cornell-box", "sponza",        "breakfast-room",
-                                                 "courtyard",   "courtyard-sun", "large-world",
-                                                 "bunny"};
+                                                 "courtyard",   "courtyard-sun", "emissive-room",
+                                                 "large-world", "bunny"};
   return names;
 }
 
@@ -399,6 +465,7 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
                      sun(glm::vec3(-0.55f, -0.6f, 0.6f), 4.0f), 2, skip);
   if (name == "courtyard" || name == "courtyard-sun")
     return courtyardScene(name == "courtyard-sun");
+  if (name == "emissive-room") return emissiveRoomScene();
   if (name == "bunny") {
     BenchScene b = bunnyScene(skip);
     if (!b.triangles) return std::nullopt;
@@ -432,8 +499,8 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
     return b;
   }
   *skip = name +
-          ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, bunny, "
-          "large-world)";
+          ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, "
+          "emissive-room, bunny, large-world)";
   return std::nullopt;
 }
 

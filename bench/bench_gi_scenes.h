@@ -14,6 +14,8 @@
 //   breakfast-room  ../shared/data/breakfast-room: sun through the windows + sky.
 //   courtyard       built in code: a 16 m court open to the sky inside a covered arcade, sky only,
 //                   24.8 m across at 5 cm voxels (4 cascades): Sponza's geometry in small.
+//   emissive-room   built in code: a closed 6 x 3 x 8 m room lit only by emissive surfaces (two
+//                   hanging panels, a blue screen), no sun, black sky; 5 cm voxels, 2 cascades.
 //   bunny           glmark2's bunny on a ground slab under sun + sky (Debian glmark2-data): the
 //                   small scene quick mode uses when the Breakfast Room is absent.
 //   large-world     out/worlds/village-4km (sdfstream generate-world + bench world): timings and
@@ -58,9 +60,9 @@ struct BenchScene {
 // Every scene name loadBenchScene knows, in the order a full run uses.
 const std::vector<std::string>& benchSceneNames();
 
-// Scenes by name (cornell-box, sponza, breakfast-room, courtyard, bunny, large-world). Returns
-// nullopt and sets *skip to a one-line reason when the scene's data is absent. dataDir is
-// ../shared/data.
+// Scenes by name (cornell-box, sponza, breakfast-room, courtyard, emissive-room, bunny,
+// large-world). Returns nullopt and sets *skip to a one-line reason when the scene's data is
+// absent. dataDir is ../shared/data.
 std::optional<BenchScene> loadBenchScene(const std::string& name,
                                          const std::filesystem::path& dataDir,
                                          const std::filesystem::path& largeWorld,

@@ -46,9 +46,10 @@ constexpr const char* kHelp =
     "  --quick        Cornell box + one small scene (Breakfast Room, else the bunny), a reduced\n"
     "                 sweep, 96x72 views, 256 reference paths, fewer frames (<= 10 min on 2 "
     "cores)\n"
-    "  --scenes LIST  of cornell-box,sponza,breakfast-room,courtyard,courtyard-sun,bunny,\n"
-    "                 large-world (default: cornell-box,sponza,breakfast-room,courtyard,\n"
-    "                 large-world; missing data is skipped with a message)\n"
+    "  --scenes LIST  of cornell-box,sponza,breakfast-room,courtyard,courtyard-sun,\n"
+    "                 emissive-room,bunny,large-world (default: cornell-box,sponza,\n"
+    "                 breakfast-room,courtyard,emissive-room,large-world; missing data is\n"
+    "                 skipped with a message)\n"
     "  --out DIR      default out/bench-gi        --data DIR  default ../shared/data\n"
     "  --large-world  default out/worlds/village-4km (a pack; skipped when absent)\n"
     "  --frames N     warm-up frames per configuration (default 32, quick 8)\n"
@@ -118,8 +119,8 @@ int runBenchGi(int argc, char** argv) {
       throw InputError(
           InputErrorKind::Usage, "command line",
           "unknown scene '" + name +
-              "' (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, large-world, "
-              "bunny)");
+              "' (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, emissive-room, "
+              "large-world, bunny)");
   const auto device = deviceFromArgs(args);
   if (!device)
     throw InputError(InputErrorKind::Usage, "command line", "bench gi needs a GPU (no --cpu)");
