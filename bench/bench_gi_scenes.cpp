@@ -395,8 +395,7 @@ TriangleScene builtInEmissiveRoom() {
   addBox(s, {-x - w, -w, -z - w}, {x + w, 0.0f, z + w}, floor);    // floor slab
   addBox(s, {-x - w, h, -z - w}, {x + w, h + w, z + w}, plaster);  // ceiling slab
   // The walls meet the slabs and each other along shared edges: the mesh is open, as most
-  // levels are, and imports as shells (world/mesh_to_sdf.h). Made closed (walls reaching into
-  // the slabs), OpenVDB's sign flood fill finds the room's air enclosed and turns it solid.
+  // levels are, and imports as shells (world/mesh_to_sdf.h).
   addBox(s, {-x - w, 0.0f, -z - w}, {x + w, h, -z}, plaster);  // -z wall
   addBox(s, {-x - w, 0.0f, z}, {x + w, h, z + w}, plaster);    // +z wall
   addBox(s, {-x - w, 0.0f, -z}, {-x, h, z}, red);              // -x wall, red

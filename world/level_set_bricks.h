@@ -39,10 +39,13 @@ inline constexpr double kBytesPerBandVoxel = 48.0;
 // A mesh's level set on the grid with voxel `voxelSize` whose index 0 sits at world `origin`, and
 // OpenVDB's closest-polygon index grid (INVALID_IDX where none). Sign rule of mesh_to_sdf.h:
 // closed → signed, open → unsigned minus half a voxel. Band kNarrowBand voxels (+0.5 when open).
+// A closed mesh whose signs do not follow its triangles' orientation (signsFollowOrientation) is
+// imported as open instead; `isSigned` says which rule was applied.
 // Defined in mesh_to_sdf.cpp. The scene must have passed validation (indices in range, finite).
 struct MeshLevelSet {
   openvdb::FloatGrid::Ptr distance;
   openvdb::Int32Grid::Ptr closest;
+  bool isSigned = false;
 };
 MeshLevelSet meshLevelSet(const TriangleScene& scene, bool closed, double voxelSize,
                           glm::dvec3 origin);

@@ -64,6 +64,8 @@ class MeshSource final : public SdfSource {
       l.levelSet = rebuildFrom(*finer, l.voxel, spec.origin);
     else
       l.levelSet = meshLevelSet(scene_, closed_, l.voxel, spec.origin);
+    // A closed mesh whose finest signs failed the orientation check is open for every LOD.
+    if (lod == 0) closed_ = l.levelSet.isSigned;
   }
 
   void releaseLod(int lod) override { lods_.at(std::size_t(lod)) = Lod{}; }

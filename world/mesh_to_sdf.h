@@ -24,7 +24,9 @@ double estimateMeshImportBytes(const TriangleScene& scene, double voxelSize);
 //
 // Sign rule:
 //  - closed mesh (isClosedMesh): the signed level set, negative inside, |d| exact within
-//    kNarrowBand voxels of the surface;
+//    kNarrowBand voxels of the surface, provided its signs follow the triangles' orientation
+//    (OpenVDB's flood fill calls the air of a sealed room made of closed boxes inside; so does
+//    inconsistent winding): where they do not, the open rule below;
 //  - otherwise (open sheets such as a ground quad or Sponza's planes, which have no inside): the
 //    unsigned distance minus half a voxel, i.e. every open surface becomes a thin closed shell,
 //    1 voxel thick, whose zero crossing lies within 0.5 voxel of the original sheet.

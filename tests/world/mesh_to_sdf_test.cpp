@@ -153,6 +153,41 @@ TEST(MeshToSdf, ClosedMeshDetection) {
   EXPECT_FALSE(isClosedMesh(sphere));
 }
 
+// A sealed room of closed boxes (slabs and walls overlapping, no shared edge): closed by edges,
+// but its air is enclosed, and OpenVDB's sign flood fill alone would call it inside (solid).
+TEST(MeshToSdf, SealedRoomOfClosedBoxesKeepsItsAirOutside) {
+  const glm::mat3 axes(1.0f);
+  TriangleScene room;
+  for (const auto& [centre, half] :
+       {std::pair{glm::vec3(0, -0.1f, 0), glm::vec3(1.2f, 0.1f, 1.2f)},
+        std::pair{glm::vec3(0, 1.1f, 0), glm::vec3(1.2f, 0.1f, 1.2f)},
+        std::pair{glm::vec3(0, 0.5f, -1.1f), glm::vec3(1.2f, 0.55f, 0.1f)},
+        std::pair{glm::vec3(0, 0.5f, 1.1f), glm::vec3(1.2f, 0.55f, 0.1f)},
+        std::pair{glm::vec3(-1.1f, 0.5f, 0), glm::vec3(0.1f, 0.55f, 1.05f)},
+        std::pair{glm::vec3(1.1f, 0.5f, 0), glm::vec3(0.1f, 0.55f, 1.05f)}}) {
+    const TriangleScene box = test::rotatedBox(centre, half, axes);
+    const auto base = std::uint32_t(room.positions.size());
+    room.positions.insert(room.positions.end(), box.positions.begin(), box.positions.end());
+    for (const glm::uvec3& t : box.triangles) room.triangles.push_back(t + base);
+  }
+  room = test::withDefaultMaterial(std::move(room));
+  ASSERT_TRUE(isClosedMesh(room));
+  const World world = meshToWorld(room, 0.05, {});
+  BrickSampler sampler(world);
+  // Air 2 and 3 voxels above the floor, below the ceiling and beside a wall: outside.
+  for (const glm::dvec3 p : {glm::dvec3(0, 0.1, 0), glm::dvec3(0.3, 0.15, -0.2),
+                             glm::dvec3(0, 0.9, 0.1), glm::dvec3(0.9, 0.5, 0.0)}) {
+    const std::optional<float> d = sampler.distanceVoxels(p);
+    ASSERT_TRUE(d.has_value()) << "no brick at " << p.y;
+    EXPECT_GT(*d, 1.0f) << "air at " << p.x << "," << p.y << "," << p.z << " reads " << *d;
+  }
+  // A closed box keeps its signed SDF, also wound inside out (the flood fill is right there).
+  TriangleScene box = test::rotatedBox({0, 0, 0}, {0.5f, 0.4f, 0.3f}, axes);
+  for (glm::uvec3& t : box.triangles) std::swap(t.y, t.z);
+  const World inverted = meshToWorld(box, 0.05, {});
+  EXPECT_LT(*BrickSampler(inverted).distanceVoxels(glm::dvec3(0.0, 0.3, 0.0)), -1.5f);
+}
+
 TEST(MeshToSdf, TooLargeFailsFastWithoutAllocating) {
   TriangleScene box = test::rotatedBox({0, 0, 0}, {50, 50, 50}, glm::mat3(1.0f));
   const auto start = std::chrono::steady_clock::now();
