@@ -147,22 +147,36 @@ vec3 sdfSafeInverse(vec3 d) {
               abs(d.z) > 1e-12f ? 1.0f / d.z : big);
 }
 
-// Gradient of the cascade SDF by central differences (half a voxel each side), and in w the
-// distance at p; only resident neighbours contribute, so a hit next to an empty page still gets a
-// sensible normal.
-vec4 sdfNearGradient(vec3 p, uvec4 toroidalOffset) {
+// Central differences of the cascade SDF at p, half a voxel each side: the gradient, the distance
+// at p, the largest second difference |d(p+e) + d(p-e) - 2 d(p)| over the axes, and whether all
+// seven samples are resident. A sample that is not resident counts as the distance at p, so a
+// hit next to an empty page still gets a sensible gradient.
+struct SdfDifferences {
+  vec3 gradient;
+  float centre;
+  float curvature;
+  bool resident;
+};
+
+SdfDifferences sdfDifferences(vec3 p, uvec4 toroidalOffset) {
   float h = 0.5f;
   SdfSample c = sdfSampleCascade(p, toroidalOffset);
-  vec3 g = vec3(0.0f);
+  SdfDifferences r;
+  r.gradient = vec3(0.0f);
+  r.centre = c.distance;
+  r.curvature = 0.0f;
+  r.resident = c.resident;
   for (int axis = 0; axis < 3; ++axis) {
     vec3 e = vec3(axis == 0 ? h : 0.0f, axis == 1 ? h : 0.0f, axis == 2 ? h : 0.0f);
     SdfSample a = sdfSampleCascade(p + e, toroidalOffset);
     SdfSample b = sdfSampleCascade(p - e, toroidalOffset);
     float da = a.resident ? a.distance : c.distance;
     float db = b.resident ? b.distance : c.distance;
-    g[axis] = da - db;
+    r.gradient[axis] = da - db;
+    r.curvature = max(r.curvature, abs(da + db - 2.0f * c.distance));
+    r.resident = r.resident && a.resident && b.resident;
   }
-  return vec4(g, c.distance);
+  return r;
 }
 
 // Surface normal at p (cascade voxels), for points on or near a surface.
@@ -182,28 +196,20 @@ SDF_CONST float kNormalFlatness = 0.05f;
 SDF_CONST float kNormalAgreement = 0.9f;  // cos of ~25 degrees; the stripes tilt by <= ~15
 
 vec3 sdfNormal(vec3 p, uvec4 toroidalOffset) {
-  vec4 near = sdfNearGradient(p, toroidalOffset);
-  vec3 g = vec3(near.x, near.y, near.z);
-  float len = length(g);
+  SdfDifferences near = sdfDifferences(p, toroidalOffset);
+  float len = length(near.gradient);
   if (!(len > 1e-8f)) return vec3(0.0f, 1.0f, 0.0f);
-  vec3 n = g / len;
+  vec3 n = near.gradient / len;
   vec3 q = p + n * kNormalReach;
   // The far samples must be resident and inside the window (no wrapped pages).
   if (min(q.x, min(q.y, q.z)) < 0.5f || max(q.x, max(q.y, q.z)) > 127.5f) return n;
-  SdfSample centre = sdfSampleCascade(q, toroidalOffset);
-  if (!centre.resident || centre.distance < near.w + 0.5f * kNormalReach) return n;
-  vec3 far = vec3(0.0f);
-  for (int axis = 0; axis < 3; ++axis) {
-    vec3 e = vec3(axis == 0 ? 0.5f : 0.0f, axis == 1 ? 0.5f : 0.0f, axis == 2 ? 0.5f : 0.0f);
-    SdfSample a = sdfSampleCascade(q + e, toroidalOffset);
-    SdfSample b = sdfSampleCascade(q - e, toroidalOffset);
-    if (!a.resident || !b.resident) return n;
-    if (abs(a.distance + b.distance - 2.0f * centre.distance) > kNormalFlatness) return n;
-    far[axis] = a.distance - b.distance;
-  }
-  float farLen = length(far);
+  SdfDifferences far = sdfDifferences(q, toroidalOffset);
+  if (!far.resident || far.centre < near.centre + 0.5f * kNormalReach ||
+      far.curvature > kNormalFlatness)
+    return n;
+  float farLen = length(far.gradient);
   if (!(farLen > 1e-8f)) return n;
-  vec3 nFar = far / farLen;
+  vec3 nFar = far.gradient / farLen;
   return dot(n, nFar) > kNormalAgreement ? nFar : n;
 }
 

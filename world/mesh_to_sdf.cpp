@@ -103,7 +103,6 @@ MeshLevelSet meshLevelSet(const TriangleScene& scene, bool closed, double voxelS
   if (closed) {
     out.distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band, 0,
                                                                     out.closest.get());
-    out.closest->setTransform(transform->copy());
     out.isSigned = signsFollowOrientation(scene, *out.distance, *out.closest, voxelSize);
     if (!out.isSigned) {
       out.closest = openvdb::Int32Grid::create(openvdb::Int32(openvdb::util::INVALID_IDX));
