@@ -30,13 +30,14 @@ glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
   return {vb * denom, vc * denom};
 }
 
-PackedMaterial closestMaterial(const TriangleScene& scene, std::uint32_t triangle, glm::dvec3 p) {
+PackedMaterial closestMaterial(const TriangleScene& scene, std::uint32_t triangle, glm::dvec3 p,
+                               float emissionScale) {
   const glm::uvec3& tri = scene.triangles[triangle];
   const glm::vec2 bary(closestBarycentrics(p, glm::dvec3(scene.positions[tri.x]),
                                            glm::dvec3(scene.positions[tri.y]),
                                            glm::dvec3(scene.positions[tri.z])));
   return {packAlbedo(sampleAlbedo(scene, triangle, bary)),
-          packRgb9e5(sampleEmission(scene, triangle, bary))};
+          packRgb9e5(sampleEmission(scene, triangle, bary) * emissionScale)};
 }
 
 }  // namespace sdfstream

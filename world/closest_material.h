@@ -24,6 +24,8 @@ glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dv
 // sampleAlbedo / sampleEmission at the point of `triangle` closest to p (same space as
 // scene.positions). Preconditions: triangle < scene.triangles.size(), its vertex and material
 // indices valid (validateScene plus a material check); asserted by sampleAlbedo in debug.
-PackedMaterial closestMaterial(const TriangleScene& scene, std::uint32_t triangle, glm::dvec3 p);
+// emissionScale multiplies the emission (the static importers' emitterFluxScales).
+PackedMaterial closestMaterial(const TriangleScene& scene, std::uint32_t triangle, glm::dvec3 p,
+                               float emissionScale = 1.0f);
 
 }  // namespace sdfstream

@@ -66,6 +66,7 @@ class MeshSource final : public SdfSource {
       l.levelSet = meshLevelSet(scene_, closed_, l.voxel, spec.origin);
     // A closed mesh whose finest signs failed the orientation check is open for every LOD.
     if (lod == 0) closed_ = l.levelSet.isSigned;
+    l.emissionScale = emitterFluxScales(scene_, l.levelSet, l.voxel);
   }
 
   void releaseLod(int lod) override { lods_.at(std::size_t(lod)) = Lod{}; }
@@ -107,7 +108,8 @@ class MeshSource final : public SdfSource {
           out.albedo[std::size_t(cell)] =
               packAlbedo(sampleAlbedo(scene_, std::uint32_t(best), bary));
           out.emission[std::size_t(cell)] =
-              packRgb9e5(sampleEmission(scene_, std::uint32_t(best), bary));
+              packRgb9e5(sampleEmission(scene_, std::uint32_t(best), bary) *
+                         l.emissionScale[scene_.triangleMaterial[std::size_t(best)]]);
           out.materialDistance[std::size_t(cell)] = bestDist;
         }
     return true;
@@ -118,6 +120,7 @@ class MeshSource final : public SdfSource {
     double voxel = 0;
     glm::dvec3 origin{0.0};
     MeshLevelSet levelSet;
+    std::vector<float> emissionScale;  // per material: emitterFluxScales at this LOD
   };
 
   // Signed level set at voxelSize (= 2 finer voxels) from the finer LOD's zero isosurface

@@ -197,6 +197,7 @@ World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimi
   MeshLevelSet levelSet = meshLevelSet(scene, closed, voxelSize, glm::dvec3(0.0));
   const openvdb::FloatGrid::Ptr& grid = levelSet.distance;
   const openvdb::Int32Grid& indexGrid = *levelSet.closest;
+  const std::vector<float> emissionScale = emitterFluxScales(scene, levelSet, voxelSize);
 
   const auto triangleCount = scene.triangles.size();
   World world = bricksFromLevelSet(*grid, [&](Brick& brick) {
@@ -220,7 +221,8 @@ World meshToWorld(const TriangleScene& scene, double voxelSize, const ImportLimi
           PackedMaterial material;  // 0 / 0 when no triangle is within the band
           if (best >= 0) {
             glm::dvec3 centre = (glm::dvec3(base + glm::ivec3(x, y, z)) + 0.5) * voxelSize;
-            material = closestMaterial(scene, std::uint32_t(best), centre);
+            material = closestMaterial(scene, std::uint32_t(best), centre,
+                                       emissionScale[scene.triangleMaterial[std::size_t(best)]]);
           }
           brick.albedo[brickCellIndex(x, y, z)] = material.albedo;
           brick.emission[brickCellIndex(x, y, z)] = material.emission;
