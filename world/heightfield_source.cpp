@@ -100,6 +100,7 @@ class HeightfieldSource final : public SdfSource {
             const glm::dvec3 p = lo + vox * (glm::dvec3(x, y, z) + 0.5);
             out.albedo[c] = packAlbedo(glm::vec4(terrainAlbedo(field_, albedo_, p.x, p.z), 1.0f));
             out.emission[c] = 0;
+            out.emitter[c] = 0;
           }
         }
     return surface;

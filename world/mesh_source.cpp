@@ -66,10 +66,18 @@ class MeshSource final : public SdfSource {
       l.levelSet = meshLevelSet(scene_, closed_, l.voxel, spec.origin);
     // A closed mesh whose finest signs failed the orientation check is open for every LOD.
     if (lod == 0) closed_ = l.levelSet.isSigned;
-    l.emissionScale = emitterFluxScales(scene_, l.levelSet, l.voxel);
+    emissionScale_.at(std::size_t(lod)) = emitterFluxScales(scene_, l.levelSet, l.voxel);
   }
 
   void releaseLod(int lod) override { lods_.at(std::size_t(lod)) = Lod{}; }
+
+  float emissionRatio(int lod, std::uint32_t emitter) const override {
+    if (lod <= 0 || emitter == 0 || std::size_t(lod) >= emissionScale_.size()) return 1.0f;
+    const std::vector<float>& now = emissionScale_[std::size_t(lod)];
+    const std::vector<float>& finer = emissionScale_[std::size_t(lod - 1)];
+    if (emitter > now.size() || emitter > finer.size()) return 1.0f;
+    return now[emitter - 1] / finer[emitter - 1];
+  }
 
   bool sampleBrick(int lod, glm::ivec3 brick, BrickSamples& out) const override {
     const Lod& l = lods_.at(std::size_t(lod));
@@ -107,9 +115,12 @@ class MeshSource final : public SdfSource {
                                                    glm::dvec3(scene_.positions[tri.z])));
           out.albedo[std::size_t(cell)] =
               packAlbedo(sampleAlbedo(scene_, std::uint32_t(best), bary));
+          const std::uint32_t material = scene_.triangleMaterial[std::size_t(best)];
           out.emission[std::size_t(cell)] =
               packRgb9e5(sampleEmission(scene_, std::uint32_t(best), bary) *
-                         l.emissionScale[scene_.triangleMaterial[std::size_t(best)]]);
+                         emissionScale_[std::size_t(lod)][material]);
+          out.emitter[std::size_t(cell)] =
+              scene_.materials[material].emissive != glm::vec3(0.0f) ? material + 1 : 0;
           out.materialDistance[std::size_t(cell)] = bestDist;
         }
     return true;
@@ -120,7 +131,6 @@ class MeshSource final : public SdfSource {
     double voxel = 0;
     glm::dvec3 origin{0.0};
     MeshLevelSet levelSet;
-    std::vector<float> emissionScale;  // per material: emitterFluxScales at this LOD
   };
 
   // Signed level set at voxelSize (= 2 finer voxels) from the finer LOD's zero isosurface
@@ -197,6 +207,8 @@ class MeshSource final : public SdfSource {
   bool closed_ = false;
   glm::dvec3 boundsMin_{0.0}, boundsMax_{0.0};
   std::array<Lod, PartitionSpec::kMaxLods> lods_;
+  // Per LOD and material: emitterFluxScales, kept past releaseLod (coarser LODs' ratios need it).
+  std::array<std::vector<float>, PartitionSpec::kMaxLods> emissionScale_;
 };
 
 }  // namespace

@@ -27,6 +27,10 @@ struct BrickSamples {
   std::array<std::uint32_t, layout::kBrickMaterialCount> emission;  // RGB9E5
   // |distance| of the surface sample each cell's material came from (for the union's choice).
   std::array<float, layout::kBrickMaterialCount> materialDistance;
+  // Which of the source's emitters the cell's emission came from (0: none): a source that writes
+  // a cell's material writes this too. The tile builder hands it back to the same source's
+  // emissionRatio when a coarser LOD inherits the cell.
+  std::array<std::uint32_t, layout::kBrickMaterialCount> emitter;
 };
 
 class SdfSource {
@@ -65,6 +69,10 @@ class SdfSource {
   // Estimated peak bytes of prepareLod for LODs 0..spec.lodCount-1 held together (importPack
   // refuses with TooLarge above ImportLimits::maxBytes before any work).
   virtual double estimateBytes(const PartitionSpec& /*spec*/) const { return 0.0; }
+  // The factor between an emitter's emission at LOD lod and at LOD lod - 1, for a coarse cell that
+  // inherits a finer cell's material (tile_builder.h): a source whose emitters' surfaces grow with
+  // the voxel scales each LOD's emission to keep their flux (mesh_source: emitterFluxScales).
+  virtual float emissionRatio(int /*lod*/, std::uint32_t /*emitter*/) const { return 1.0f; }
   // Material names for the pack manifest (informational).
   virtual std::vector<std::string> materialNames() const { return {}; }
   // The source's own lights in world space (a glTF file's KHR_lights_punctual), for the manifest.

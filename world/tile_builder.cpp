@@ -8,6 +8,8 @@
 
 #include <glm/gtc/packing.hpp>
 
+#include "world/color_pack.h"
+
 namespace sdfstream {
 namespace {
 
@@ -19,9 +21,12 @@ using Samples = std::array<float, layout::kBrickSampleCount>;
 
 int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
+using CellSources = std::array<const SdfSource*, layout::kBrickMaterialCount>;
+
 struct Materials {
-  std::array<std::uint32_t, layout::kBrickMaterialCount> albedo{}, emission{};
+  std::array<std::uint32_t, layout::kBrickMaterialCount> albedo{}, emission{}, emitter{};
   std::array<float, layout::kBrickMaterialCount> distance;  // |d| of the chosen sample; inf: none
+  CellSources source{};  // which source gave the cell its material (its emitter's owner)
 };
 
 // One LOD's bricks over the tile plus a margin. Bricks that are uniform (every sample +band, or
@@ -98,17 +103,25 @@ bool inAnyRange(const std::vector<SourceRange>& ranges, glm::ivec3 b) {
   return false;
 }
 
-// Samples the union of the sources for one brick (materials when wantMaterials).
+// Samples the union of the sources for one brick (materials when wantMaterials; then `winners`,
+// when given, gets the source each cell's material came from).
 bool sampleUnion(const std::vector<SourceRange>& ranges, int lod, glm::ivec3 b, bool wantMaterials,
-                 BrickSamples& out) {
+                 BrickSamples& out, CellSources* winners = nullptr) {
   out.distance.fill(kBand);
   out.albedo.fill(0);
   out.emission.fill(0);
+  out.emitter.fill(0);
   out.materialDistance.fill(wantMaterials ? kInf : 0.0f);
+  if (winners) winners->fill(nullptr);
   bool any = false;
+  std::array<float, layout::kBrickMaterialCount> before;
   for (const SourceRange& r : ranges) {
     if (!inRange(r, b)) continue;
+    if (winners) before = out.materialDistance;
     r.source->sampleBrick(lod, b, out);
+    if (winners)
+      for (std::size_t c = 0; c < before.size(); ++c)
+        if (out.materialDistance[c] < before[c]) (*winners)[c] = r.source;
     any = true;
   }
   return any;
@@ -228,6 +241,7 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
   Region fine;
   std::vector<std::unique_ptr<Materials>> fineMaterials;  // per tile-own fine brick (or null)
   BrickSamples samples;
+  CellSources winners;
   for (int lod = 0; lod < spec.lodCount; ++lod) {
     const int n = spec.tileBricks(lod);
     // Fine samples the coarser levels' tile bricks read, beyond this tile: 2^(L-1-l) - 1.
@@ -258,7 +272,7 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
       // No source near and nothing finer below the band: uniform +band, as the slot already is
       // (what sampling, filtering and store would give, without touching 729 samples).
       if (!inAnyRange(ranges, b) && (lod == 0 || !fineAnything(fine, b))) continue;
-      sampleUnion(ranges, lod, b, wantMaterials, samples);
+      sampleUnion(ranges, lod, b, wantMaterials, samples, wantMaterials ? &winners : nullptr);
       Samples s = samples.distance;
       if (lod > 0) filterBrick(fine, b, s);
       store(region, i, s);
@@ -266,6 +280,8 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
         auto m = std::make_unique<Materials>();
         m->albedo = samples.albedo;
         m->emission = samples.emission;
+        m->emitter = samples.emitter;
+        m->source = winners;
         m->distance = samples.materialDistance;
         materials[std::size_t(own)] = std::move(m);
       }
@@ -298,16 +314,28 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
               m->distance[std::size_t(c)] = d;
               m->albedo[std::size_t(c)] = fm->albedo[fc];
               m->emission[std::size_t(c)] = fm->emission[fc];
+              m->emitter[std::size_t(c)] = fm->emitter[fc];
+              m->source[std::size_t(c)] = fm->source[fc];
             }
           }
           missing = missing || m->distance[std::size_t(c)] == kInf;
         }
+        // An inherited emitter's emission, scaled from the finer LOD's flux factor to this one's.
+        for (std::size_t c = 0; c < layout::kBrickMaterialCount; ++c)
+          if (m->emitter[c] != 0 && m->source[c] != nullptr) {
+            const float ratio = m->source[c]->emissionRatio(lod, m->emitter[c]);
+            if (ratio != 1.0f)
+              m->emission[c] =
+                  packRgb9e5(gpu_shared::unpackRgb9e5(m->emission[c]) * ratio);
+          }
         if (missing) {
-          sampleUnion(ranges, lod, b, true, samples);
+          sampleUnion(ranges, lod, b, true, samples, &winners);
           for (std::size_t c = 0; c < layout::kBrickMaterialCount; ++c)
             if (m->distance[c] == kInf) {
               m->albedo[c] = samples.albedo[c];
               m->emission[c] = samples.emission[c];
+              m->emitter[c] = samples.emitter[c];
+              m->source[c] = winners[c];
               m->distance[c] = samples.materialDistance[c];
             }
         }

@@ -15,7 +15,8 @@
 // at LOD 0 and each level is computed over the tile plus a margin wide enough for the next, so a
 // tile needs no other tile. Materials: a coarse cell takes the material of the fine cell (of its
 // 2³) with the smallest |d| at its nearest sample; cells whose fine cells have none sample the
-// sources at LOD l.
+// sources at LOD l. An inherited emitter's emission is scaled by its source's emissionRatio
+// (the emitter's surface grows with the voxel; the factor keeps its flux).
 //
 // Bricks: a brick is stored iff any of its 9³ filtered samples has |d| < kNarrowBand.
 // emptyDistance: Chebyshev brick distance over the tile plus the ring (kEmptyMargin bricks, or

@@ -104,6 +104,7 @@ class VdbSource final : public SdfSource {
           if (!(nearest < out.materialDistance[cell])) continue;
           out.albedo[cell] = grey_;
           out.emission[cell] = 0;
+          out.emitter[cell] = 0;
           out.materialDistance[cell] = nearest;
         }
     return true;

@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "shaders/shared/color_codec.h"
 #include "tests/support/test_data.h"
 #include "tests/world/mesh_fixtures.h"
 #include "world/brick_sampler.h"
@@ -206,6 +207,36 @@ TEST(Partition, MeshLod0MatchesGridAndBruteForce) {
   EXPECT_GT(band, 1000);
   EXPECT_LE(worstGrid, 0.05);
   EXPECT_LE(worstBrute, 0.5);
+}
+
+// An emitter's shell grows with each LOD's voxel; every LOD's emission is scaled to keep its
+// flux, coarse cells that inherit a finer cell's emitter included (SdfSource::emissionRatio).
+TEST(Partition, EmittersKeepTheirFluxAtEveryLod) {
+  const TriangleScene scene = test::floorAndEmittingPanel();
+  Sources sources;
+  sources.push_back(makeMeshSource(scene));
+  PartitionSpec spec;
+  spec.voxelSize = 0.05;
+  spec.lodCount = 2;  // 5 and 10 cm: the panel's faces on grid planes at both
+  spec.tileVoxels = 64;
+  const std::vector<Tile> tiles = buildAll(sources, spec);
+  for (int lod = 0; lod < spec.lodCount; ++lod) {
+    const double voxel = spec.lodVoxelSize(lod);
+    const double expected = test::emittingPanelArea(0.0) / test::emittingPanelArea(0.5 * voxel);
+    int emitting = 0;
+    double worst = 0;
+    for (const Brick& b : lodWorld(tiles, spec, lod).bricks)
+      for (std::uint32_t e : b.emission) {
+        if (e == 0) continue;
+        ++emitting;
+        const glm::vec3 got = layout::unpackRgb9e5(e) / test::kEmittingPanelEmission;
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got[k] / expected - 1.0));
+      }
+    std::printf("[ emitters ] LOD %d: %d emitting cells, scale %.4f, worst relative error %.4f\n",
+                lod, emitting, expected, worst);
+    EXPECT_GT(emitting, 500);
+    EXPECT_LT(worst, 0.01) << "LOD " << lod;
+  }
 }
 
 // LOD l vs a wide-band LOD-0 reference: sign agreement at points farther than one LOD-l voxel.

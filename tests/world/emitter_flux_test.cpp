@@ -13,39 +13,14 @@
 namespace sdfstream {
 namespace {
 
-constexpr glm::vec3 kPanelHalf(1.2f, 0.05f, 0.5f);  // a 2.4 x 0.1 x 1 m panel
-constexpr glm::vec3 kEmission(4.0f, 3.0f, 2.0f);
+constexpr glm::vec3 kPanelHalf = test::kEmittingPanelHalf;
+constexpr glm::vec3 kEmission = test::kEmittingPanelEmission;
+TriangleScene floorAndPanel(glm::mat3 rotation) { return test::floorAndEmittingPanel(rotation); }
 
-// A floor sheet (open, so the whole scene imports as shells) and above it a panel
-// box that emits (material 1). The panel's faces sit on grid planes at 5 and 10 cm voxels.
-TriangleScene floorAndPanel(glm::mat3 rotation) {
-  TriangleScene scene = test::quadSheet(3.0f, 0.0f);
-  TriangleScene panel = test::rotatedBox({0.0f, 0.05f, 2.5f}, kPanelHalf, rotation);
-  const auto base = std::uint32_t(scene.positions.size());
-  scene.positions.insert(scene.positions.end(), panel.positions.begin(), panel.positions.end());
-  for (const glm::uvec3& t : panel.triangles) {
-    scene.triangles.push_back(t + base);
-    scene.triangleMaterial.push_back(1);
-  }
-  scene.uvs.assign(scene.positions.size(), glm::vec2(0.0f));
-  Material light;
-  light.name = "light";
-  light.emissive = kEmission;
-  scene.materials.push_back(light);
-  return scene;
-}
-
-double panelArea() {
-  const glm::dvec3 e = 2.0 * glm::dvec3(kPanelHalf);
-  return 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
-}
-
+double panelArea() { return test::emittingPanelArea(0.0); }
 // The panel grown by r on every side: as a box (sharp edges, what the trilinear field of a shell
 // on grid planes makes) and as a rounded box (the exact shell: edges quarter cylinders).
-double boxGrownBy(double r) {
-  const glm::dvec3 e = 2.0 * glm::dvec3(kPanelHalf) + 2.0 * r;
-  return 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
-}
+double boxGrownBy(double r) { return test::emittingPanelArea(r); }
 double roundedGrownBy(double r) {
   const glm::dvec3 e = 2.0 * glm::dvec3(kPanelHalf);
   const double edges = 4.0 * (e.x + e.y + e.z);

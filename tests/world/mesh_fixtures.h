@@ -94,6 +94,33 @@ inline TriangleScene quadSheet(float halfSize, float z) {
   return withDefaultMaterial(std::move(scene));
 }
 
+// An open floor sheet (so the whole scene imports as shells) and above it a closed panel box,
+// 2.4 x 0.1 x 1 m, of an emitting material (material 1). Unturned, the panel's faces lie on the
+// grid planes of 5 and 10 cm voxels.
+inline constexpr glm::vec3 kEmittingPanelHalf(1.2f, 0.05f, 0.5f);
+inline constexpr glm::vec3 kEmittingPanelEmission(4.0f, 3.0f, 2.0f);
+inline TriangleScene floorAndEmittingPanel(glm::mat3 rotation = glm::mat3(1.0f)) {
+  TriangleScene scene = quadSheet(3.0f, 0.0f);
+  TriangleScene panel = rotatedBox({0.0f, 0.05f, 2.5f}, kEmittingPanelHalf, rotation);
+  const auto base = std::uint32_t(scene.positions.size());
+  scene.positions.insert(scene.positions.end(), panel.positions.begin(), panel.positions.end());
+  for (const glm::uvec3& t : panel.triangles) {
+    scene.triangles.push_back(t + base);
+    scene.triangleMaterial.push_back(1);
+  }
+  scene.uvs.assign(scene.positions.size(), glm::vec2(0.0f));
+  Material light;
+  light.name = "light";
+  light.emissive = kEmittingPanelEmission;
+  scene.materials.push_back(light);
+  return scene;
+}
+// The panel's area grown by r on every side as a box (sharp edges).
+inline double emittingPanelArea(double r) {
+  const glm::dvec3 e = 2.0 * glm::dvec3(kEmittingPanelHalf) + 2.0 * r;
+  return 2.0 * (e.x * e.y + e.y * e.z + e.x * e.z);
+}
+
 inline double pointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
   // Ericson 5.1.5, written independently of the importer's copy.
   glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
