@@ -283,7 +283,11 @@ void ConfigRun::measureConvergence(ConfigResult& r) {
   for (int k = 1; k <= r.convergeCap; ++k) {
     const GiFrameStats s = step();
     if (k == 1) r.lightRelightMs = s.lightMilliseconds;
-    if (meanAbsDiff(lum(), on) <= 0.05 * change + jitter) {
+    const double left = meanAbsDiff(lum(), on);
+    if (sc_.opt.verbose)
+      std::printf("      light switch, frame %d: %.4f of the change left (jitter %.4f)\n", k,
+                  left / std::max(change, 1e-30), jitter / std::max(change, 1e-30));
+    if (left <= 0.05 * change + jitter) {
       r.framesToConverge = k;
       break;
     }
