@@ -95,7 +95,7 @@ LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::
   out.distance = smp.distance;
   out.inBand = sh.lightSampleIsSurface(smp);
   if (!out.inBand) return out;
-  out.normal = sh.sdfNormal(centre, cp.toroidal);
+  out.normal = sh.sdfNearNormal(centre, cp.toroidal);
   const glm::vec3 surface = centre - out.normal * smp.distance;
   out.surface0 = glm::vec3(cp.offsetScale) + surface * cp.offsetScale.w;
   const glm::vec3 toLight = glm::normalize(glm::vec3(light.direction));

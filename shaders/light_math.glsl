@@ -293,7 +293,7 @@ vec3 lightCacheCellRadiance(uint cascade, ivec3 page, uint slot, uint cell, uint
   vec3 centre = lightCellCentre(page, cell);
   SdfSample s = sdfSampleCascade(centre, cp.toroidal);
   if (!lightSampleIsSurface(s)) return emission;
-  vec3 n = sdfNormal(centre, cp.toroidal);
+  vec3 n = sdfNearNormal(centre, cp.toroidal);
   SDF_PRECISE vec3 p = centre - n * s.distance;
   SDF_PRECISE vec3 p0 = vec3(cp.offsetScale) + p * cp.offsetScale.w;
   vec3 irradiance = vec3(0.0f);

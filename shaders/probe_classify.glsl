@@ -35,7 +35,7 @@ ProbeSdf probeSdfAt(uint cascade, uint cascadeCount, vec3 p0) {
     SdfSample s = sdfSampleCascade(p, cp.toroidal);
     r.resident = s.resident;
     r.distance = s.distance * scale;
-    if (s.resident) r.gradient = sdfNormal(p, cp.toroidal);
+    if (s.resident) r.gradient = sdfNearNormal(p, cp.toroidal);
     return r;
   }
   return r;
