@@ -325,8 +325,7 @@ Tile buildTile(const std::vector<const SdfSource*>& sources, const PartitionSpec
           if (m->emitter[c] != 0 && m->source[c] != nullptr) {
             const float ratio = m->source[c]->emissionRatio(lod, m->emitter[c]);
             if (ratio != 1.0f)
-              m->emission[c] =
-                  packRgb9e5(gpu_shared::unpackRgb9e5(m->emission[c]) * ratio);
+              m->emission[c] = packRgb9e5(gpu_shared::unpackRgb9e5(m->emission[c]) * ratio);
           }
         if (missing) {
           sampleUnion(ranges, lod, b, true, samples, &winners);
