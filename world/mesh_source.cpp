@@ -184,6 +184,7 @@ class MeshSource final : public SdfSource {
     auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
     transform->postTranslate(openvdb::Vec3d(origin.x, origin.y, origin.z));
     MeshLevelSet out;
+    out.isSigned = true;  // a closed surface rebuilt: signed, its emitters do not grow
     out.closest = openvdb::Int32Grid::create(openvdb::Int32(openvdb::util::INVALID_IDX));
     const float band = layout::kNarrowBand;
     out.distance = openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *transform, band, band,

@@ -209,12 +209,19 @@ TEST(Partition, MeshLod0MatchesGridAndBruteForce) {
   EXPECT_LE(worstBrute, 0.5);
 }
 
-// An emitter's shell grows with each LOD's voxel; every LOD's emission is scaled to keep its
-// flux, coarse cells that inherit a finer cell's emitter included (SdfSource::emissionRatio).
+// An open emitter's shell grows with each LOD's voxel; every LOD's emission is scaled to keep its
+// flux, coarse cells that inherit a finer cell's emitter included (SdfSource::emissionRatio). A
+// closed emitter's does not grow (its coarse LODs are signed rebuilds): its emission stays.
 TEST(Partition, EmittersKeepTheirFluxAtEveryLod) {
   const TriangleScene scene = test::floorAndEmittingPanel();
+  // A closed emitter beside it, a source of its own: signed at every LOD, so its emission stays.
+  const glm::vec3 sphereEmission(1.0f, 2.0f, 3.0f);
+  const TriangleScene sphere = test::withDefaultMaterial(
+      test::icosphere({5.0f, 1.0f, 2.5f}, 0.6f, 3), glm::vec4(0.8f), sphereEmission);
+  ASSERT_TRUE(isClosedMesh(sphere));
   Sources sources;
   sources.push_back(makeMeshSource(scene));
+  sources.push_back(makeMeshSource(sphere));
   PartitionSpec spec;
   spec.voxelSize = 0.05;
   spec.lodCount = 2;  // 5 and 10 cm: the panel's faces on grid planes at both
@@ -223,19 +230,30 @@ TEST(Partition, EmittersKeepTheirFluxAtEveryLod) {
   for (int lod = 0; lod < spec.lodCount; ++lod) {
     const double voxel = spec.lodVoxelSize(lod);
     const double expected = test::emittingPanelArea(0.0) / test::emittingPanelArea(0.5 * voxel);
-    int emitting = 0;
-    double worst = 0;
+    int emitting = 0, sphereCells = 0;
+    double worst = 0, worstSphere = 0;
     for (const Brick& b : lodWorld(tiles, spec, lod).bricks)
       for (std::uint32_t e : b.emission) {
         if (e == 0) continue;
+        const glm::vec3 stored = layout::unpackRgb9e5(e);
+        if (stored.b > stored.r) {  // the sphere's blue: kept as it is
+          ++sphereCells;
+          const glm::vec3 got = stored / sphereEmission;
+          for (int k = 0; k < 3; ++k) worstSphere = std::max(worstSphere, std::abs(got[k] - 1.0));
+          continue;
+        }
         ++emitting;
-        const glm::vec3 got = layout::unpackRgb9e5(e) / test::kEmittingPanelEmission;
+        const glm::vec3 got = stored / test::kEmittingPanelEmission;
         for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(got[k] / expected - 1.0));
       }
-    std::printf("[ emitters ] LOD %d: %d emitting cells, scale %.4f, worst relative error %.4f\n",
-                lod, emitting, expected, worst);
+    std::printf(
+        "[ emitters ] LOD %d: %d panel cells, scale %.4f, worst relative error %.4f; %d cells of "
+        "the closed sphere, worst %.4f\n",
+        lod, emitting, expected, worst, sphereCells, worstSphere);
     EXPECT_GT(emitting, 500);
     EXPECT_LT(worst, 0.01) << "LOD " << lod;
+    EXPECT_GT(sphereCells, 100);
+    EXPECT_LT(worstSphere, 0.01) << "LOD " << lod;
   }
 }
 
