@@ -14,8 +14,7 @@ namespace sdfstream {
 double triangleDistance(const TriangleScene& mesh, std::uint32_t t, glm::dvec3 p) {
   const glm::uvec3& tri = mesh.triangles[t];
   const glm::dvec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
-  const glm::dvec2 bary = closestBarycentrics(p, a, b, c);
-  return glm::length(a + (b - a) * bary.x + (c - a) * bary.y - p);
+  return glm::length(closestPointOnTriangle(p, a, b, c) - p);
 }
 
 void growClosestTriangles(const TriangleScene& mesh, const GridFrame& grid,

@@ -20,6 +20,11 @@ struct PackedMaterial {
 // Collision Detection 5.1.5). Degenerate triangles answer (0,0). Also declared, for world/'s
 // OpenVDB-side code, in level_set_bricks.h.
 glm::dvec2 closestBarycentrics(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
+// The point of triangle (a,b,c) closest to p (closestBarycentrics, as a point).
+inline glm::dvec3 closestPointOnTriangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec2 bary = closestBarycentrics(p, a, b, c);
+  return a + (b - a) * bary.x + (c - a) * bary.y;
+}
 
 // sampleAlbedo / sampleEmission at the point of `triangle` closest to p (same space as
 // scene.positions). Preconditions: triangle < scene.triangles.size(), its vertex and material

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "world/closest_material.h"
 #include "world/level_set_bricks.h"
 
 namespace sdfstream {
@@ -61,8 +62,7 @@ std::vector<float> emitterFluxScales(const TriangleScene& scene, const MeshLevel
       openvdb::Vec3d at = xf.indexToWorld(openvdb::Vec3d(ijk.x(), ijk.y(), ijk.z()));
       at[axis] += f * voxelSize;
       const glm::dvec3 p(at.x(), at.y(), at.z());
-      const glm::dvec2 bary = closestBarycentrics(p, tri.a, tri.b, tri.c);
-      const glm::dvec3 away = p - (tri.a + (tri.b - tri.a) * bary.x + (tri.c - tri.a) * bary.y);
+      const glm::dvec3 away = p - closestPointOnTriangle(p, tri.a, tri.b, tri.c);
       // The shell stands half a voxel off the triangle, its normal pointing away from the
       // closest point (round over edges); only the side the triangle faces is seen, the other
       // is the sheet's back or a hollow inside. Beside an edge, in the sheet's plane, is the
