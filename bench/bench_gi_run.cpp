@@ -253,8 +253,10 @@ void ConfigRun::runPeersOnProbeRays(SceneReport& into) {
                     " rays each, that frame's rotation), bounded by the coarsest cascade";
 }
 
-// Light switch: off for offFrames, then on again. Converged = 95% of the switch's effect
-// recovered beyond the field's own jitter: mean |E_t - E_on| <= 0.05 mean |E_on - E_off| +
+// Light switch, once the field has settled after the first frames' vigilance: off for
+// offFrames, then on again.
+// Converged = 95% of the switch's effect recovered beyond the field's own jitter:
+// mean |E_t - E_on| <= 0.05 mean |E_on - E_off| +
 // mean |E_on' - E_on| (E_on, E_on' two consecutive converged frames; E_off the last dark
 // frame; luminance at <= 1024 test points). Measured against the change, not against E: where
 // the sky dominates (outdoors) a sun switch is a few percent of E and would "converge" at once.
@@ -269,6 +271,13 @@ void ConfigRun::measureConvergence(ConfigResult& r) {
     for (std::size_t i = 0; i < a.size(); ++i) d += std::abs(a[i] - b[i]);
     return d / double(a.size());
   };
+  // E_on must be the field the lights settle to. A new probe's vigilance (its first
+  // vigilantFrames updates) leaves a texel holding mostly its last hit-cache rotation's estimate,
+  // which the calm hysteresis (0.97) averages away over tens of frames: judged against that
+  // rotation's bias, a switch would seem to converge only on frames of the same rotation
+  // (docs/DECISIONS.md, "A light switch: ..."). 64 calm frames leave 0.97^64 = 0.14 of it.
+  const std::uint64_t settled = std::uint64_t(cfg_.probes.vigilantFrames) + 64u;
+  while (frame_ < settled) step();
   const std::vector<double> on = lum();
   step();
   const double jitter = meanAbsDiff(lum(), on);

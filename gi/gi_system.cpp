@@ -9,8 +9,10 @@
 
 namespace sdfstream {
 namespace {
-// Timed passes per frame: 3 region passes, the light cache, 7 probe passes, with room to spare.
-constexpr std::uint32_t kFramePasses = 16;
+// Timed passes per frame: 3 region passes and the light cache, then 7 probe passes per probe
+// update (a light switch's catch-up frames run several), each with room to spare.
+constexpr std::uint32_t kPassesBesideProbes = 8;
+constexpr std::uint32_t kPassesPerProbeUpdate = 8;
 
 std::vector<gpu::PassTiming> passesStartingWith(const std::vector<gpu::PassTiming>& all,
                                                 std::string_view prefix) {
@@ -36,7 +38,32 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       staging_(context, std::max(1u, settings.framesInFlight)),
       relight_(settings.light.relightPageBudget),
       lightSwitchCatchUpFrames_(settings.lightSwitchCatchUpFrames),
+      catchUpUpdatesPerFrame_(std::max(1u, settings.lightSwitchUpdatesPerFrame)),
+      probeRotations_(settings.probes.cacheRotations),
+      framePasses_(kPassesBesideProbes + kPassesPerProbeUpdate * catchUpUpdatesPerFrame_),
+      probeListCapacity_(settings.probes.listCapacity(cascades)),
+      switchVigilantUpdates_(settings.probes.lightSwitchVigilantUpdates > 0
+                                 ? settings.probes.lightSwitchVigilantUpdates
+                                 : settings.probes.vigilantFrames),
+      vigilantMeanUpdates_(settings.probes.vigilantMeanUpdates),
       lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {}
+
+// A switch's vigilance in updates of each probe: as many as the catch-up gives a probe. Where
+// more probes live than one update's list holds (Sponza's 4 cascades: ~2x), each update takes
+// a share of them, and a probe still vigilant after the catch-up would blend its remaining
+// updates at vigilantHysteresis, one rotation at a time, for as many frames again as its
+// share takes (measured: Sponza's switch reached its closing mean only ~27 frames later). The
+// live count is the last harvested frame's (a frame or two old: it changes slowly).
+std::uint32_t GiSystem::lightSwitchVigilance() const {
+  const probe::ProbeFieldStats& s = probes_.lastStats();
+  const std::uint64_t live = std::uint64_t(s.states[1]) + s.states[2] + s.states[3];
+  const std::uint64_t updates = std::uint64_t(lightSwitchCatchUpFrames_) * catchUpUpdatesPerFrame_;
+  std::uint64_t perProbe = switchVigilantUpdates_;
+  if (updates > 0 && live > probeListCapacity_)
+    perProbe = std::min<std::uint64_t>(perProbe, (updates * probeListCapacity_ + live - 1) / live);
+  return std::uint32_t(std::max<std::uint64_t>(
+      perProbe, std::min(switchVigilantUpdates_, vigilantMeanUpdates_ + 2u)));
+}
 
 // Frames still in flight keep their batches (query pools) alive until the GPU is done with them:
 // CommandBatch's destruction is deferred like every other GPU object's.
@@ -96,7 +123,7 @@ GiFrameStats GiSystem::runBlocking(const SceneUpload& upload, const CascadeStack
   if (instances_) objects_.prepareCards(*objectLibrary_, image.voxelSize0);
   staging_.beginFrame();
   harvestCompleted();
-  FrameInFlight f{context_.beginBatch(kFramePasses), staging_.currentSlot(), {}};
+  FrameInFlight f{context_.beginBatch(framePasses_), staging_.currentSlot(), {}};
   f.stats = recordFrame(f.batch, upload, image, lights, inputs, frame);
   staging_.endFrame(f.batch.submit());
   f.batch.wait();
@@ -110,7 +137,7 @@ GiFrameRecording GiSystem::runRecorded(VkCommandBuffer commandBuffer, const Scen
   if (instances_) objects_.prepareCards(*objectLibrary_, image.voxelSize0);
   staging_.beginFrame();  // waits only when the slot's earlier frame is still running
   harvestCompleted();     // before this frame's copies overwrite the slot's readback
-  FrameInFlight f{context_.recordInto(commandBuffer, kFramePasses), staging_.currentSlot(), {}};
+  FrameInFlight f{context_.recordInto(commandBuffer, framePasses_), staging_.currentSlot(), {}};
   f.stats = recordFrame(f.batch, upload, image, lights, inputs, frame);
   const gpu::SubmitSignal signal = f.batch.finish();
   staging_.endFrame(signal.value);
@@ -175,14 +202,23 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   inputs.lightsDrifting = inputs.lightsDrifting || lightsDrifted;
   stats.probesPaused = inputs.paused;
   if (!inputs.paused) {
-    probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), inputs, frame);
-    if (catchUpFramesLeft_ > 0) {
-      // The same frame again (same rays, same probes): one more bounce of the new light.
-      --catchUpFramesLeft_;
-      probe::ProbeFrameInputs again = inputs;
-      again.lightsChanged = false;
-      probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), again, frame);
+    // A catch-up frame runs its updates one after another (same probes), each one more bounce
+    // of the new light, each through the next hit-cache rotation: update j of frame k takes
+    // rotation (n k + j) mod R, so any R updates in a row see every rotation's directions.
+    const bool catchUp = catchUpFramesLeft_ > 0;
+    const std::uint32_t switchVigilance = inputs.lightsChanged ? lightSwitchVigilance() : 0u;
+    const std::uint32_t updates = catchUp ? catchUpUpdatesPerFrame_ : 1u;
+    for (std::uint32_t j = 0; j < updates; ++j) {
+      probe::ProbeFrameInputs in = inputs;
+      in.lightSwitchCatchUp = catchUp;
+      in.lightsChanged = inputs.lightsChanged && j == 0;
+      in.lightSwitchVigilantUpdates = switchVigilance;
+      if (catchUp)
+        in.rotationShift =
+            std::uint32_t(((updates - 1) * frame + j) % std::max(1u, probeRotations_));
+      probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), in, frame);
     }
+    if (catchUp) --catchUpFramesLeft_;
   }
   stats.pagesRelit = light_.pagesRelitLastUpdate();
   stats.bytesUploaded = staging_.bytesThisFrame();

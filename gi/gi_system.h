@@ -39,12 +39,16 @@ struct GiSettings {
   ObjectSceneSettings objects;
   // Frames record() may run ahead of the GPU; each owns its staging and readback memory.
   std::uint32_t framesInFlight = 2;
-  // Frames after a light switch (not a drift, not the first frame) that run a second probe
-  // update: each update adds one bounce of the new light, so an interior whose light is mostly
-  // multi-bounce recovers sooner, for one more update's GPU time in each (both updates are in
-  // GiFrameStats::passes; GiFrameStats::probes counts the second). A paused field's catch-up
-  // waits until it runs again.
-  std::uint32_t lightSwitchCatchUpFrames = 8;
+  // Frames after a light switch (not a drift, not the first frame) that run
+  // lightSwitchUpdatesPerFrame probe updates instead of one: each update adds one bounce of the
+  // new light, so an interior whose light is mostly multi-bounce recovers sooner, for the extra
+  // updates' GPU time in each (all updates are in GiFrameStats::passes; GiFrameStats::probes
+  // counts the last). The updates take the hit-cache rotations in turn, and vigilant probes
+  // blend at ProbeFieldSettings::lightSwitchHysteresis in these frames; the switch's vigilance
+  // (lightSwitchVigilantUpdates, 18 = 6 x 3) ends with them. A paused field's catch-up waits
+  // until it runs again.
+  std::uint32_t lightSwitchCatchUpFrames = 6;
+  std::uint32_t lightSwitchUpdatesPerFrame = 3;
 };
 
 struct GiFrameStats {
@@ -158,6 +162,7 @@ class GiSystem {
   // Completes a finished frame's statistics (GPU timings, probe counters) and makes them what
   // the parts' lastTimings()/lastStats() report.
   GiFrameStats harvest(FrameInFlight& done);
+  std::uint32_t lightSwitchVigilance() const;  // ProbeFrameInputs::lightSwitchVigilantUpdates
   void harvestCompleted();
 
   gpu::Context& context_;
@@ -172,6 +177,12 @@ class GiSystem {
   LightRelightQueue relight_;
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   const std::uint32_t lightSwitchCatchUpFrames_;
+  const std::uint32_t catchUpUpdatesPerFrame_;
+  const std::uint32_t probeRotations_;  // hit-cache rotations the catch-up's updates cycle through
+  const std::uint32_t framePasses_;     // timed passes a frame's batch has room for
+  const std::uint32_t probeListCapacity_;      // probes one update's list holds
+  const std::uint32_t switchVigilantUpdates_;  // a switch's vigilance where every probe fits
+  const std::uint32_t vigilantMeanUpdates_;
   std::uint32_t catchUpFramesLeft_ = 0;  // frames with a second probe update still to run
   std::size_t lightCount_ = 0;
   SceneLights lastLights_;  // the previous frame's, to tell a drift from a change

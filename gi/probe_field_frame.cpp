@@ -42,9 +42,10 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
     const glm::mat3 m = randomRotation(mix + r);
     for (int k = 0; k < 3; ++k) out.rotations.push_back(glm::vec4(m[k], 0.0f));
   }
-  const std::uint32_t slot = cycle ? std::uint32_t(frame % slots) : 0u;
+  const std::uint64_t rotationFrame = frame + in.rotationShift;
+  const std::uint32_t slot = cycle ? std::uint32_t(rotationFrame % slots) : 0u;
   const glm::mat3 rotation =
-      cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + frame);
+      cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + rotationFrame);
 
   std::vector<glm::ivec3> gridOrigins(cascades);
   std::vector<glm::dvec3> windowWorld(cascades);
@@ -104,7 +105,8 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   f.camera = glm::vec4(stack.toStack(in.cameraWorld), cosCone);
   const float len = glm::length(in.viewDirection);
   f.view =
-      glm::vec4(len > 0.0f ? in.viewDirection / len : glm::vec3(0, 0, -1), s.vigilantHysteresis);
+      glm::vec4(len > 0.0f ? in.viewDirection / len : glm::vec3(0, 0, -1),
+                     in.lightSwitchCatchUp ? s.lightSwitchHysteresis : s.vigilantHysteresis);
   f.counts = glm::uvec4(cascades, s.probesPerVolume(), 0u, s.rayBudget);
   std::uint32_t options = 0;
   if (s.hitCache) options |= gpu_shared::kProbeOptionHitCache;
@@ -124,12 +126,19 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.backfacesBlack) options |= gpu_shared::kProbeOptionBackfacesBlack;
   if (first_) options |= gpu_shared::kProbeOptionFirstFrame;
   if (anyMoved || anyPageChanged) options |= gpu_shared::kProbeOptionCacheCheck;
-  f.options = glm::uvec4(options, std::uint32_t(frame), s.sleepPeriod, s.maxSteps);
+  f.options = glm::uvec4(options, std::uint32_t(rotationFrame), s.sleepPeriod, s.maxSteps);
   f.trace = glm::vec4(s.hitEpsilon, s.relocationMinDistance, s.sleepThreshold, s.traceDistance);
-  // w: vigilant frames after a change (bits 0-7) and near a moving object (bits 8-15).
-  f.selection =
-      glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots,
-                 std::min(s.vigilantFrames, 255u) | (std::min(s.objectVigilantFrames, 255u) << 8u));
+  // w: vigilant updates when new (bits 0-7), near a moving object (bits 8-15), after a light
+  // switch (bits 16-23), and the closing updates that take a running mean (bits 24-31).
+  const std::uint32_t switchVigilance =
+      in.lightSwitchVigilantUpdates > 0  ? in.lightSwitchVigilantUpdates
+      : s.lightSwitchVigilantUpdates > 0 ? s.lightSwitchVigilantUpdates
+                                         : s.vigilantFrames;
+  f.selection = glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots,
+                           std::min(s.vigilantFrames, 255u) |
+                               (std::min(s.objectVigilantFrames, 255u) << 8u) |
+                               (std::min(switchVigilance, 255u) << 16u) |
+                               (std::min(s.vigilantMeanUpdates, 255u) << 24u));
   f.worldToStack = glm::vec4(glm::vec3(stack.cascade0MinWorld),
                              stack.voxelSize0 > 0.0 ? float(1.0 / stack.voxelSize0) : 0.0f);
 

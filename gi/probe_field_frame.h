@@ -38,6 +38,25 @@ struct ProbeFieldSettings {
   // ... and when a moving object passes near it: short, since low hysteresis is visible as
   // flicker where objects keep moving. Both at most 255.
   std::uint32_t objectVigilantFrames = 8;
+  // ... and after a light switch: updates, not frames (GiSettings::lightSwitchCatchUpFrames runs
+  // three a frame, so the default vigilance ends with its 6 frames). Short, because a vigilant
+  // update holds mostly its own rotation's 128 directions, each with its own bias against the
+  // converged field: the field leaves that plateau only when the vigilance ends, with the mean
+  // below. 0: vigilantFrames.
+  std::uint32_t lightSwitchVigilantUpdates = 18;
+  // Vigilant hysteresis in the frames of GiSystem's light-switch catch-up: 0 takes each update's
+  // fresh estimate whole. An interior lit mostly by bounces gains one bounce per update, and the
+  // light still missing shrinks by h + (1 - h) rho an update (rho: the share of the light that
+  // comes back by a bounce, ~0.8 in the Breakfast Room): 0.86 at 0.3, 0.8 at 0. The noise of
+  // one rotation's rays that this leaves is what the closing mean (vigilantMeanUpdates) averages.
+  float lightSwitchHysteresis = 0.0f;
+  // The last this many updates of a light switch's vigilance take a running mean (hysteresis
+  // 1/2, 2/3, ...) instead of vigilantHysteresis: over as many hit-cache rotations they weigh
+  // every rotation's directions alike, so the field the vigilance leaves behind is the
+  // rotations' mean, which the calm 0.97 then only refines. A new probe's vigilance keeps
+  // vigilantHysteresis to its end: its bounces may still be building up then, and the mean's
+  // slower blend would hold them back. 0: off. At most 255.
+  std::uint32_t vigilantMeanUpdates = 4;
   bool adaptiveHysteresis = true;              // per-texel change heuristic (M21 Sec. 4.3)
   float maxDepthSpacings = 2.0f * 1.7320508f;  // depth a miss records, in probe spacings
   // Exponent of the irradiance encoding the blend works in (texel = E^(1/gamma)). 1: linear.
@@ -128,6 +147,15 @@ struct ProbeFrameInputs {
   // probes' GPU time; the light cache, objects and streaming still update). Unpaused, the field
   // catches up from where it stood, as after a camera jump.
   bool paused = false;
+  // Added to the frame number wherever an update picks by it -- the hit-cache rotation and the
+  // select pass's share of an overflowing class: a second update in the same frame (GiSystem's
+  // light-switch catch-up) traces other directions, and other probes where not all fit.
+  std::uint32_t rotationShift = 0;
+  // With lightsChanged: the switch's vigilance in updates (0: lightSwitchVigilantUpdates).
+  std::uint32_t lightSwitchVigilantUpdates = 0;
+  // A frame of GiSystem's catch-up after a light switch: vigilant probes blend with
+  // ProbeFieldSettings::lightSwitchHysteresis instead of vigilantHysteresis.
+  bool lightSwitchCatchUp = false;
 };
 
 // Everything the passes read for one frame.

@@ -23,6 +23,9 @@ ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
   ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
   uint state = probeStateOf(PROBE_DATA(g));
   bool vigilant = state == kProbeVigilant;
+  uvec4 hist = PROBE_HISTORY(g);
+  uint left = probeHistoryVigilant(hist);  // after this update (classify counted it)
+  bool closing = probeHistoryClosingMean(hist);
   bool drifting =
       (f.options.x & kProbeOptionLightsDrifting) != 0u && state == kProbeSleeping;
   const uint irrCount = kProbeIrradianceInterior * kProbeIrradianceInterior;
@@ -33,7 +36,7 @@ ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
   if (t.irradiance) {
     t.texel = uvec2(local % kProbeIrradianceInterior, local / kProbeIrradianceInterior);
     t.index = probeIrradianceIndex(g, t.texel + uvec2(kProbeBorderTexels));
-    t.h = vigilant ? min(v.blend.x, f.view.w)
+    t.h = vigilant ? probeVigilantHysteresis(f, v.blend.x, left, closing)
                    : drifting ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
     t.shape = v.blend.w;
   } else {

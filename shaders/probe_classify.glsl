@@ -207,6 +207,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
   uint quiet = probeHistoryQuiet(hist);
   uint vigilant = probeHistoryVigilant(hist);
   uint age = probeHistoryAge(hist);
+  bool closingMean = probeHistoryClosingMean(hist);
   bool inside = probeHistoryInside(hist);
   vec3 mean = vec3(uintBitsToFloat(hist.x), uintBitsToFloat(hist.y), uintBitsToFloat(hist.z));
   if (entered) {
@@ -216,6 +217,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       PROBE_DEPTH(g * kProbeDepthTexels * kProbeDepthTexels + t) = vec2(0.0f);
     quiet = 0u;
     vigilant = f.selection.w & 255u;
+    closingMean = false;
     age = 0u;
     inside = false;
     mean = vec3(0.0f);
@@ -223,12 +225,8 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     // The last update's hysteresis (the blend's rule, with last frame's state and options).
     bool driftLast = (f.options.x & kProbeOptionDriftedBefore) != 0u &&
                      probeStateOf(oldData) == kProbeSleeping;
-    float hLast = vigilant > 0u ? min(v.blend.x, f.view.w)
+    float hLast = vigilant > 0u ? probeVigilantHysteresis(f, v.blend.x, vigilant, closingMean)
                   : driftLast ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
-    if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
-      vigilant = f.selection.w & 255u;
-      quiet = 0u;
-    }
     if (age == 0u) {  // updated by the previous frame: measure how much it changed
       vec3 now = probeMeanIrradiance(g, v.blend.w);
       vec3 delta = abs(now - mean);
@@ -244,6 +242,13 @@ void probeClassifyPass(ProbeFrame f, uint g) {
       quiet = gap < f.trace.z && (hLast == v.blend.x || driftLast) ? quiet + 1u : 0u;
       if (vigilant > 0u) vigilant -= 1u;
       mean = now;
+    }
+    // After the count-down: a switch's vigilance is this update and the ones after it, all of
+    // them (its closing mean, probeVigilantHysteresis, then spans whole rotation cycles).
+    if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
+      vigilant = (f.selection.w >> 16u) & 255u;
+      closingMean = true;
+      quiet = 0u;
     }
     age += 1u;
   }
@@ -298,7 +303,7 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     if (!sdf.resident) sdf.distance = min(sdf.distance, max(objDistance, 0.0f));
   }
 #endif
-  uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, inside);
+  uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, closingMean, inside);
   uint state = probeState(f, sdf, spacing, newHist);
 #ifdef OBJ_FRAME
   if (insideObject) state = kProbeOff;

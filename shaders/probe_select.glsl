@@ -113,5 +113,5 @@ void probeSelectPass(ProbeFrame f, uint g, uint mode) {
   if (index >= f.selection.y) return;
   PROBE_LIST(index) = g;
   uvec4 h = PROBE_HISTORY(g);
-  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0x8000ffffu);  // age 0: updated this frame
+  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0xc000ffffu);  // age 0: updated this frame
 }

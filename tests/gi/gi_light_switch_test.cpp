@@ -1,6 +1,6 @@
-// GiSettings::lightSwitchCatchUpFrames: after a light switch the frame runs a second probe update
-// (one more bounce of the new light) for that many frames; the first frame, a drifting sun and a
-// paused field run none.
+// GiSettings::lightSwitchCatchUpFrames: after a light switch the frame runs
+// lightSwitchUpdatesPerFrame probe updates (one more bounce of the new light each) for that many
+// frames; the first frame, a drifting sun and a paused field run one.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -27,6 +27,7 @@ TEST(GiLightSwitch, ASwitchRunsCatchUpUpdatesForItsFrames) {
   settings.probes.spacingBricks = 4;
   settings.probes.raysPerProbe = 32;
   settings.lightSwitchCatchUpFrames = 3;
+  settings.lightSwitchUpdatesPerFrame = 2;
   GiSystem gi(*context, settings, 3);
   SceneLights lights = bunnySunAndSky();
   probe::ProbeFrameInputs inputs;

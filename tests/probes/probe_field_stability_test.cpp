@@ -182,5 +182,59 @@ TEST_F(ProbeFieldStabilityTest, FollowsALightSwitchWithinTenFrames) {
   EXPECT_LE(frames[1][0], 10);
 }
 
+// A light switch's vigilance (ProbeFieldSettings::lightSwitchVigilantUpdates, at the catch-up's
+// hysteresis lightSwitchHysteresis = 0 as GiSystem runs it) ends on the hit-cache rotations' mean:
+// its last vigilantMeanUpdates updates take a running mean. Without it the field holds the last
+// rotation's estimate, whose own bias against the converged field the calm hysteresis then keeps
+// for tens of frames. Measured as the bench's light switch does: pointwise mean |E - E_on| at
+// wall receivers, as a share of the switch's mean |E_on - E_off|, one frame after the vigilance;
+// E_on is a field that settled for 200 frames (its own vigilance ended on the mean as well).
+TEST_F(ProbeFieldStabilityTest, ALightSwitchsVigilanceEndsOnTheRotationsMean) {
+  Room room;
+  const CascadeStackImage& img = room.stack.image;
+  const auto on = pointLight(img, glm::vec3(64.0f, 72.0f, 60.0f), 300.0f);
+  const auto queries = test::boxWallQueries(glm::vec3(kLo), glm::vec3(kHi), 256, 9u);
+  auto luminance = [](const std::vector<glm::vec3>& e) {
+    std::vector<double> m(e.size());
+    for (std::size_t i = 0; i < e.size(); ++i) m[i] = (e[i].x + e[i].y + e[i].z) / 3.0;
+    return m;
+  };
+  auto meanAbsDiff = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) d += std::abs(a[i] - b[i]);
+    return d / double(a.size());
+  };
+  auto leftAfterSwitch = [&](std::uint32_t meanUpdates) {
+    ProbeFieldSettings s = smallField();
+    s.raysPerProbe = 32;  // few rays: each rotation's bias is plain to see
+    s.vigilantMeanUpdates = meanUpdates;
+    test::GiHarness h(ctx(), s, 1, false, true);
+    ProbeFrameInputs in;
+    in.cameraWorld = glm::dvec3(64.0);
+    std::uint64_t frame = 0;
+    h.lights = on;
+    for (int i = 0; i < 200; ++i, ++frame) h.step(img, in, frame, frame == 0);
+    const std::vector<double> lit = luminance(h.sampleGpu(queries));
+    h.lights.clear();
+    in.lightsChanged = true;
+    for (int i = 0; i < 3; ++i, in.lightsChanged = false) h.step(img, in, frame++, false);
+    const double change = meanAbsDiff(luminance(h.sampleGpu(queries)), lit);
+    h.lights = on;
+    in.lightsChanged = true;
+    for (std::uint32_t i = 0; i <= s.lightSwitchVigilantUpdates; ++i) {
+      in.lightSwitchCatchUp = i < s.lightSwitchVigilantUpdates;
+      h.step(img, in, frame++, false);
+      in.lightsChanged = false;
+    }
+    return meanAbsDiff(luminance(h.sampleGpu(queries)), lit) / change;
+  };
+  const double withMean = leftAfterSwitch(4);
+  const double lastRotation = leftAfterSwitch(0);
+  std::printf("[figures] light switch, 32 rays a probe: %.4f of the change left one frame after the vigilance with its closing mean over 4 updates, %.4f with the last rotation's estimate\n",
+              withMean, lastRotation);
+  EXPECT_LT(withMean, 0.05);
+  EXPECT_LT(withMean, 0.75 * lastRotation);
+}
+
 }  // namespace
 }  // namespace sdfstream::probe
