@@ -183,7 +183,7 @@ class GiSystem {
   const std::uint32_t probeListCapacity_;      // probes one update's list holds
   const std::uint32_t switchVigilantUpdates_;  // a switch's vigilance where every probe fits
   const std::uint32_t vigilantMeanUpdates_;
-  std::uint32_t catchUpFramesLeft_ = 0;  // frames with a second probe update still to run
+  std::uint32_t catchUpFramesLeft_ = 0;  // catch-up frames (several probe updates) still to run
   std::size_t lightCount_ = 0;
   SceneLights lastLights_;  // the previous frame's, to tell a drift from a change
   LightDriftLimits lightDrift_;
