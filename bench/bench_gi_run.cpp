@@ -294,8 +294,10 @@ void ConfigRun::measureConvergence(ConfigResult& r) {
     if (k == 1) r.lightRelightMs = s.lightMilliseconds;
     const double left = meanAbsDiff(lum(), on);
     if (sc_.opt.verbose)
-      std::printf("      light switch, frame %d: %.4f of the change left (jitter %.4f)\n", k,
-                  left / std::max(change, 1e-30), jitter / std::max(change, 1e-30));
+      std::printf(
+          "      light switch, frame %d: %.4f of the change left (jitter %.4f), probe passes "
+          "%.3f ms\n",
+          k, left / std::max(change, 1e-30), jitter / std::max(change, 1e-30), s.probeMilliseconds);
     if (left <= 0.05 * change + jitter) {
       r.framesToConverge = k;
       break;
