@@ -42,9 +42,7 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       probeRotations_(settings.probes.cacheRotations),
       framePasses_(kPassesBesideProbes + kPassesPerProbeUpdate * catchUpUpdatesPerFrame_),
       probeListCapacity_(settings.probes.listCapacity(cascades)),
-      switchVigilantUpdates_(settings.probes.lightSwitchVigilantUpdates > 0
-                                 ? settings.probes.lightSwitchVigilantUpdates
-                                 : settings.probes.vigilantFrames),
+      switchVigilantUpdates_(settings.probes.switchVigilantUpdates()),
       vigilantMeanUpdates_(settings.probes.vigilantMeanUpdates),
       lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {}
 
@@ -56,7 +54,9 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
 // live count is the last harvested frame's (a frame or two old: it changes slowly).
 std::uint32_t GiSystem::lightSwitchVigilance() const {
   const probe::ProbeFieldStats& s = probes_.lastStats();
-  const std::uint64_t live = std::uint64_t(s.states[1]) + s.states[2] + s.states[3];
+  namespace gs = gpu_shared;
+  const std::uint64_t live = std::uint64_t(s.states[gs::kProbeSleeping]) +
+                             s.states[gs::kProbeAwake] + s.states[gs::kProbeVigilant];
   const std::uint64_t updates = std::uint64_t(lightSwitchCatchUpFrames_) * catchUpUpdatesPerFrame_;
   std::uint64_t perProbe = switchVigilantUpdates_;
   if (updates > 0 && live > probeListCapacity_)

@@ -131,9 +131,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   // w: vigilant updates when new (bits 0-7), near a moving object (bits 8-15), after a light
   // switch (bits 16-23), and the closing updates that take a running mean (bits 24-31).
   const std::uint32_t switchVigilance =
-      in.lightSwitchVigilantUpdates > 0  ? in.lightSwitchVigilantUpdates
-      : s.lightSwitchVigilantUpdates > 0 ? s.lightSwitchVigilantUpdates
-                                         : s.vigilantFrames;
+      in.lightSwitchVigilantUpdates > 0 ? in.lightSwitchVigilantUpdates : s.switchVigilantUpdates();
   f.selection = glm::uvec4(gpu_shared::kProbeClassCount, s.listCapacity(cascades), slots,
                            std::min(s.vigilantFrames, 255u) |
                                (std::min(s.objectVigilantFrames, 255u) << 8u) |

@@ -123,6 +123,11 @@ struct ProbeFieldSettings {
   }
   // Probes per frame the ray budget allows (at most every probe of `cascades` volumes).
   std::uint32_t listCapacity(std::uint32_t cascades) const;
+  // A light switch's vigilance where every probe fits a list: lightSwitchVigilantUpdates, or
+  // vigilantFrames when that is 0.
+  std::uint32_t switchVigilantUpdates() const {
+    return lightSwitchVigilantUpdates > 0 ? lightSwitchVigilantUpdates : vigilantFrames;
+  }
 };
 
 // What the caller knows about a frame besides the stack.
