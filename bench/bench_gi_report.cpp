@@ -381,12 +381,15 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
         "at one probe per brick (9³ / 5³ at 2 / 4 bricks), so the nearest count we can run is "
         "2 cascades × 17³ = 9,826 probes (within 0.3%). Our default uses "
      << (s.configs.size() > 1 ? std::to_string(s.configs[1].cascades) : "?") << " cascades.\n\n"
-     << "| config | probes | rays/probe | classify | select | trace | blend | border | **probe "
-        "update** | **sampling** | ns/query | **light cache** (full relight, first frame) | "
-        "relight, warm median of 5 | probes updated | "
+     << "| config | probes | rays/probe | classify | select | trace | bounce cells | blend | "
+        "border "
+        "| **probe update** | **sampling** | ns/query | **light cache** (full relight, first "
+        "frame) "
+        "| relight, warm median of 5 | probes updated | "
         "rays traced | rays cached | fresh G rays/s | MiB "
-        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,blend_ms,border_ms,update_ms,"
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,bounce_ms,blend_ms,border_ms,"
+         "update_ms,"
          "sample_ms,sample_ns_per_query,light_relight_ms,light_relight_warm_ms,probes_updated,"
          "rays_traced,rays_cached,fresh_grays_per_s,memory_mib\n";
   for (const ConfigResult& c : s.configs) {
@@ -396,22 +399,23 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
     };
     const double select =
         pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args");
+    const double bounce = pass("probe_bounce_cells") + pass("probe_bounce_rays");
     // Fresh rays per second of the trace pass: its throughput when (nearly) every ray is traced
     // afresh (plain DDGI); with the hit cache it mostly measures shading, not traversal.
     const double freshRate =
         pass("probe_trace") > 0.0 ? c.raysTraced / (pass("probe_trace") * 1e-3) * 1e-9 : 0.0;
     md << "| " << c.config << " | " << c.probes << " | " << c.rays << " | "
        << fmt("%.3f", pass("probe_classify")) << " | " << fmt("%.3f", select) << " | "
-       << fmt("%.3f", pass("probe_trace")) << " | " << fmt("%.3f", pass("probe_blend")) << " | "
-       << fmt("%.3f", pass("probe_border")) << " | " << fmt("%.3f", c.updateMs) << " | "
-       << fmt("%.3f", c.sampleMs) << " | " << fmt("%.2f", c.sampleNsPerQuery) << " | "
-       << fmt("%.3f", c.lightRelightMs) << " | " << fmt("%.3f", c.lightRelightWarmMs) << " | "
-       << fmt("%.0f", c.probesUpdated) << " | " << fmt("%.0f", c.raysTraced) << " | "
-       << fmt("%.0f", c.raysCached) << " | " << fmt("%.3f", freshRate) << " | "
-       << fmt("%.1f", c.memoryMiB()) << " |\n";
+       << fmt("%.3f", pass("probe_trace")) << " | " << fmt("%.3f", bounce) << " | "
+       << fmt("%.3f", pass("probe_blend")) << " | " << fmt("%.3f", pass("probe_border")) << " | "
+       << fmt("%.3f", c.updateMs) << " | " << fmt("%.3f", c.sampleMs) << " | "
+       << fmt("%.2f", c.sampleNsPerQuery) << " | " << fmt("%.3f", c.lightRelightMs) << " | "
+       << fmt("%.3f", c.lightRelightWarmMs) << " | " << fmt("%.0f", c.probesUpdated) << " | "
+       << fmt("%.0f", c.raysTraced) << " | " << fmt("%.0f", c.raysCached) << " | "
+       << fmt("%.3f", freshRate) << " | " << fmt("%.1f", c.memoryMiB()) << " |\n";
     csv << s.name << ',' << c.config << ',' << c.probes << ',' << c.rays << ','
-        << pass("probe_classify") << ',' << select << ',' << pass("probe_trace") << ','
-        << pass("probe_blend") << ',' << pass("probe_border") << ',' << c.updateMs << ','
+        << pass("probe_classify") << ',' << select << ',' << pass("probe_trace") << ',' << bounce
+        << ',' << pass("probe_blend") << ',' << pass("probe_border") << ',' << c.updateMs << ','
         << c.sampleMs << ',' << c.sampleNsPerQuery << ',' << c.lightRelightMs << ','
         << c.lightRelightWarmMs << ',' << c.probesUpdated << ',' << c.raysTraced << ','
         << c.raysCached << ',' << freshRate << ',' << c.memoryMiB() << '\n';

@@ -184,9 +184,12 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
                     t.milliseconds);
     }
     if (opt.verbose)
-      std::printf("      frame %llu: %u probes, %u rays traced, %u cached, %llu steps\n",
-                  (unsigned long long)frame_ - 1, s.probes.probesUpdated, s.probes.raysTraced,
-                  s.probes.raysCached, (unsigned long long)s.probes.steps);
+      std::printf(
+          "      frame %llu: %u probes, %u rays traced, %u cached, %llu steps, %u bounce cells "
+          "looked up, %u rays waited for one or looked up their own\n",
+          (unsigned long long)frame_ - 1, s.probes.probesUpdated, s.probes.raysTraced,
+          s.probes.raysCached, (unsigned long long)s.probes.steps, s.probes.bounceCells,
+          s.probes.bounceRays);
     update.push_back(total);
     probesUpdated.push_back(s.probes.probesUpdated);
     raysTraced.push_back(s.probes.raysTraced);

@@ -52,6 +52,27 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
 // updates at vigilantHysteresis, one rotation at a time, for as many frames again as its
 // share takes (measured: Sponza's switch reached its closing mean only ~27 frames later). The
 // live count is the last harvested frame's (a frame or two old: it changes slowly).
+// The bounce cells take 8 bytes per material voxel, twice the light cache's: reserved with the
+// atlas, so that a device without room for both keeps fewer slots (and says so) instead of
+// failing in a frame. Where they do not fit, the atlas halves (GpuStackScene::shrinkAtlas,
+// which throws at its floor) until they do.
+std::uint32_t GiSystem::reserveAtlasSlots(std::uint32_t slots) {
+  std::uint32_t got = scene_.reserveAtlas(slots);
+  for (;;) {
+    try {
+      probes_.reserveBounceCells(got);
+      return got;
+    } catch (const gpu::OutOfDeviceMemory&) {
+      got = scene_.shrinkAtlas(got / 2);
+    }
+  }
+}
+
+std::uint32_t GiSystem::shrinkAtlasSlots(std::uint32_t slots) {
+  probes_.reserveBounceCells(0);  // their memory back before the atlas asks again
+  return reserveAtlasSlots(scene_.shrinkAtlas(slots));
+}
+
 std::uint32_t GiSystem::lightSwitchVigilance() const {
   const probe::ProbeFieldStats& s = probes_.lastStats();
   namespace gs = gpu_shared;

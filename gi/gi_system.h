@@ -130,11 +130,12 @@ class GiSystem {
   std::array<const gpu::Buffer*, kSampleBindingCount> sampleBuffers() const;
 
   const GpuStackScene& scene() const { return scene_; }
-  // GpuStackScene::reserveAtlas: the atlas slots the device could hold, at most `slots`.
-  std::uint32_t reserveAtlasSlots(std::uint32_t slots) { return scene_.reserveAtlas(slots); }
-  // GpuStackScene::shrinkAtlas, after a frame ran out of device memory (nothing is in flight:
-  // frames of update() are blocking).
-  std::uint32_t shrinkAtlasSlots(std::uint32_t slots) { return scene_.shrinkAtlas(slots); }
+  // GpuStackScene::reserveAtlas with the probe field's bounce cells for as many slots (8 bytes
+  // a material voxel): the atlas slots the device could hold together with them, at most `slots`.
+  std::uint32_t reserveAtlasSlots(std::uint32_t slots);
+  // GpuStackScene::shrinkAtlas (and the bounce cells with it), after a frame ran out of device
+  // memory (nothing is in flight: frames of update() are blocking).
+  std::uint32_t shrinkAtlasSlots(std::uint32_t slots);
   const LightCache& lightCache() const { return light_; }
   // Light-cache pages relit per frame from the next frame on (LightCacheSettings).
   void setRelightPageBudget(std::uint32_t pages) { relight_.setPageBudget(pages); }

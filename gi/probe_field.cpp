@@ -6,7 +6,7 @@
 namespace sdfstream::probe {
 namespace {
 using gpu_shared::ProbePushConstants;
-constexpr std::uint32_t kBindings = 30;  // 22 probe + 8 object (probe_bindings.glsl)
+constexpr std::uint32_t kBindings = 32;  // 22 probe + 8 object + 2 bounce (probe_bindings.glsl)
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
 gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
@@ -34,6 +34,7 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       cacheCheck_(pipeline(context, gpu::ShaderId::probe_cache_check)),
       select_(pipeline(context, gpu::ShaderId::probe_select)),
       trace_(pipeline(context, gpu::ShaderId::probe_trace)),
+      bounce_(pipeline(context, gpu::ShaderId::probe_bounce)),
       blend_(pipeline(context, gpu::ShaderId::probe_blend)),
       border_(pipeline(context, gpu::ShaderId::probe_border)),
       sample_(pipeline(context, gpu::ShaderId::probe_sample)),
@@ -53,6 +54,8 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       results_(context, gpu::StagedBuffer::ToHost),
       dispatchArgs_(deviceBuffer(context, 9 * 4)),
       rayDirs_(deviceBuffer(context, sizes_.rays * 16)),
+      bounceCells_(deviceBuffer(context, 8)),
+      bounceWork_(deviceBuffer(context, sizes_.bounceWork * 16)),
       noObjects_(context) {
   // Bound by every pass, so they exist before the first sample().
   queries_.reserve(sizeof(gpu_shared::ProbeQuery));
@@ -62,7 +65,8 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
 
 void ProbeField::reset() {
   gpu::CommandBatch batch = context_.beginBatch();
-  for (gpu::Buffer* b : {&data_, &history_, &irradiance_, &depth_, &cache_, &list_, &statsBuffer_})
+  for (gpu::Buffer* b :
+       {&data_, &history_, &irradiance_, &depth_, &cache_, &list_, &statsBuffer_, &bounceCells_})
     batch.fill(*b, 0u);
   batch.submitAndWait();
   builder_.reset();
@@ -95,7 +99,31 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
   for (const gpu::Buffer* o :
        objects_ && objects_->active() ? objects_->buffers() : noObjects_.buffers())
     b.push_back(o);
+  b.push_back(&bounceCells_);
+  b.push_back(&bounceWork_);
   return b;
+}
+
+void ProbeField::reserveBounceCells(std::uint32_t slots) {
+  const std::size_t voxels = std::size_t(slots) * gpu_shared::kBrickMaterialCount;
+  if (settings_.bounceCellUpdates == 0 || voxels == bounceCellVoxels_) return;
+  bounceCells_ = deviceBuffer(context_, 8);  // the old cells' memory back first
+  bounceCellVoxels_ = 0;
+  gpu::Buffer cells = deviceBuffer(context_, std::max<std::size_t>(voxels, 1) * 8);
+  gpu::CommandBatch batch = context_.beginBatch();
+  batch.fill(cells, 0u);
+  batch.submitAndWait();
+  bounceCells_ = std::move(cells);
+  bounceCellVoxels_ = voxels;
+}
+
+void ProbeField::growBounceCells(gpu::CommandBatch& batch, const GpuStackScene& scene) {
+  const std::size_t voxels = std::size_t(scene.slotCount()) * gpu_shared::kBrickMaterialCount;
+  if (settings_.bounceCellUpdates == 0 || voxels <= bounceCellVoxels_) return;
+  // A cache: the grown cells start empty and are looked up again where rays hit them.
+  bounceCells_ = deviceBuffer(context_, voxels * 8);  // the old one outlives the batch
+  batch.fill(bounceCells_, 0u);
+  bounceCellVoxels_ = voxels;
 }
 
 void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& image,
@@ -116,6 +144,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         const gpu::Buffer& light, const ProbeFrameInputs& inputs,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
+  growBounceCells(batch, scene);
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |=
         gpu_shared::kProbeOptionObjects |
@@ -160,6 +189,16 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   batch.dispatch("probe_select_args", select_, b, &args, sizeof args, {1, 1, 1});
   // Sized on the GPU by the list's length: sleeping and off probes launch no thread at all.
   batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
+  if (lastFrame_.constants.bounce.y > 0) {
+    // Sized like the trace: each listed ray adds at most one cell and itself.
+    ProbePushConstants cells = trace, waiting = trace;
+    cells.dispatch.x = gpu_shared::kProbeBounceModeCells;
+    waiting.dispatch.x = gpu_shared::kProbeBounceModeRays;
+    batch.dispatchIndirect("probe_bounce_cells", bounce_, b, &cells, sizeof cells, dispatchArgs_,
+                           0);
+    batch.dispatchIndirect("probe_bounce_rays", bounce_, b, &waiting, sizeof waiting, dispatchArgs_,
+                           0);
+  }
   batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
   batch.dispatchIndirect("probe_border", border_, b, &border, sizeof border, dispatchArgs_, 24);
   batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);

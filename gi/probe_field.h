@@ -3,7 +3,8 @@
 //   classify (scroll reset, SDF relocation, states, hit-cache invalidation; every probe)
 //   -> select (count per priority class, append within the ray budget, size the next passes)
 //   -> trace + shade (hit cache, else sphere tracing through the stack; light cache + previous
-//      irradiance at hits; sky at misses) -> blend interior texels -> copy borders
+//      irradiance at hits, through the bounce cells; sky at misses) -> the bounce cells' lookups
+//      -> blend interior texels -> copy borders
 // and irradiance(x, n, view) queries across cascades (probe_sample.comp). The math is
 // shaders/probe_field.glsl; gi/probe_field_cpu.h is the CPU reference of the same passes.
 #pragma once
@@ -49,6 +50,11 @@ class ProbeField {
   // has completed (CommandBatch::completed); never waits.
   ProbeFieldStats readStats(std::uint32_t slot) const;
   void reset();
+  // The bounce cells for an atlas of `slots` brick slots, allocated now (blocking), so that a
+  // host reserving the atlas (GiSystem::reserveAtlasSlots) learns whether both fit; otherwise
+  // they grow with the atlas in record(). Throws gpu::OutOfDeviceMemory where the device cannot
+  // hold them (the cells are then empty, to be reserved again for fewer slots).
+  void reserveBounceCells(std::uint32_t slots);
   // Moving objects the next updates trace and classify against (issue 7), or none (nullptr):
   // the object scene must be updated for the same stack before each update() and outlive it.
   void setObjects(const ObjectScene* objects) { objects_ = objects; }
@@ -66,10 +72,12 @@ class ProbeField {
   const ProbeFieldStats& lastStats() const { return stats_; }
   // GPU time per pass of the last update() or sample(): probe_classify, probe_cache_check (frames
   // whose windows scrolled or pages changed), probe_select_count,
-  // probe_select_emit, probe_select_args, probe_trace, probe_blend, probe_border / probe_sample.
+  // probe_select_emit, probe_select_args, probe_trace, probe_bounce_cells and probe_bounce_rays
+  // (with bounce cells), probe_blend, probe_border / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
-  std::size_t deviceBytes() const { return sizes_.bytes(); }
+  // Every buffer's bytes, the bounce cells as large as the atlas they last grew to.
+  std::size_t deviceBytes() const { return sizes_.bytes() + bounceCellVoxels_ * 8; }
 
   std::vector<glm::vec4> downloadIrradiance() const;
   std::vector<glm::vec2> downloadDepth() const;
@@ -88,6 +96,8 @@ class ProbeField {
  private:
   std::vector<const gpu::Buffer*> bindings(const GpuStackScene& scene,
                                            const gpu::Buffer& lightRadiance);
+  // Sizes the bounce cells to the scene's atlas (new cells empty; recorded into `batch`).
+  void growBounceCells(gpu::CommandBatch& batch, const GpuStackScene& scene);
 
   gpu::Context& context_;
   ProbeFieldSettings settings_;
@@ -95,7 +105,7 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, blend_, border_, sample_;
+  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, bounce_, blend_, border_, sample_;
   // frame_, volumes_, rotations_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
@@ -104,6 +114,9 @@ class ProbeField {
   gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)
   gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
+  gpu::Buffer bounceCells_;   // uvec2 per atlas material voxel (probe_trace.glsl, bounce cells)
+  gpu::Buffer bounceWork_;    // the bounce passes' lists (ProbeFieldSizes::bounceWork)
+  std::size_t bounceCellVoxels_ = 0;
   const ObjectScene* objects_ = nullptr;
   NoObjectsBindings noObjects_;  // bound at 22-29 when there are no objects
   ProbeFieldStats stats_;

@@ -41,12 +41,18 @@ struct FieldPasses {
   glm::vec4* probeData = nullptr;
   glm::uvec4* history = nullptr;
   glm::uvec2* hitCache = nullptr;
+  std::uint32_t* bounceCells = nullptr;
+  glm::uvec4* bounceWork = nullptr;
   std::uint32_t* updateList = nullptr;
   std::uint32_t* stats = nullptr;
   std::uint32_t* dispatchArgs = nullptr;  // unused on the CPU (it loops to the list's length)
 
   static std::uint32_t atomicAdd(std::uint32_t& x, std::uint32_t v) {
     return std::atomic_ref<std::uint32_t>(x).fetch_add(v);
+  }
+  static std::uint32_t atomicCompSwap(std::uint32_t& x, std::uint32_t compare, std::uint32_t data) {
+    std::atomic_ref<std::uint32_t>(x).compare_exchange_strong(compare, data);
+    return compare;  // the value x held, as GLSL's atomicCompSwap returns
   }
   // The stack image's buffers (every pass reads them).
   explicit FieldPasses(const CascadeStackImage& stack)
@@ -76,6 +82,11 @@ struct FieldPasses {
 #undef PROBE_ROTATION
 #undef PROBE_PAGE_CHANGED
 #undef LIGHT_RADIANCE
+#undef LIGHT_BOUNCE_E
+#undef LIGHT_BOUNCE_WORD
+#undef LIGHT_BOUNCE_CLAIM
+#undef PROBE_BOUNCE_WORK
+#undef PROBE_APPEND
 #undef PROBE_LIST
 #undef PROBE_STAT
 #undef PROBE_STAT_ADD
@@ -85,7 +96,7 @@ struct FieldPasses {
 
 std::size_t ProbeFieldSizes::bytes() const {
   return probes * (16 + 16) + irradianceTexels * 16 + depthTexels * 8 + rays * 32 +
-         cacheEntries * 8;
+         cacheEntries * 8 + bounceWork * 16;
 }
 
 ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades) {
@@ -96,6 +107,7 @@ ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t casca
   z.depthTexels = z.probes * gpu_shared::kProbeDepthTexels * gpu_shared::kProbeDepthTexels;
   z.rays = std::size_t(s.listCapacity(cascades)) * s.raysPerProbe;
   z.cacheEntries = s.hitCache ? z.probes * s.cacheRotations * s.raysPerProbe : 1;
+  z.bounceWork = s.bounceCellUpdates > 0 ? 2 * z.rays : 1;
   return z;
 }
 
@@ -114,6 +126,8 @@ ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw) {
   s.objectRays = raw[kProbeStatObjectRays];
   s.objectHits = raw[kProbeStatObjectHits];
   s.objectSteps = raw[kProbeStatObjectSteps];
+  s.bounceCells = raw[kProbeStatBounceCells];
+  s.bounceRays = raw[kProbeStatBounceRays];
   return s;
 }
 
@@ -131,6 +145,8 @@ void ProbeFieldCpu::reset() {
   rays_.assign(z.rays, glm::vec4(0.0f));
   rayDirs_.assign(z.rays, glm::vec4(0.0f));
   cache_.assign(z.cacheEntries, glm::uvec2(0u));
+  bounceCells_.clear();
+  bounceWork_.assign(z.bounceWork, glm::uvec4(0u));
   list_.assign(settings_.listCapacity(cascades_), 0u);
   rawStats_.assign(gpu_shared::kProbeStatCount, 0u);
   builder_.reset();
@@ -154,6 +170,12 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   base.probeData = data_.data();
   base.history = history_.data();
   base.hitCache = cache_.data();
+  // The bounce cells grow with the atlas (the light cache holds one word per material voxel),
+  // emptied as the GPU field's are (ProbeField::growBounceCells).
+  if (settings_.bounceCellUpdates > 0 && bounceCells_.size() < 2 * light.size())
+    bounceCells_.assign(2 * light.size(), 0u);
+  base.bounceCells = bounceCells_.data();
+  base.bounceWork = bounceWork_.data();
   base.updateList = list_.data();
   base.stats = rawStats_.data();
   const std::uint32_t probes = std::uint32_t(data_.size());
@@ -186,6 +208,19 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       local.probeTracePass(f, std::uint32_t(i / n), std::uint32_t(i % n));
   });
+  // Bounce cells, then the rays that waited for them (probe_bounce.comp, two dispatches).
+  if (f.bounce.y > 0) {
+    const std::uint32_t cells = rawStats_[gpu_shared::kProbeStatBounceCells];
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, cells, 64), [&](auto r) {
+      auto local = base;
+      for (std::uint32_t i = r.begin(); i < r.end(); ++i) local.probeBounceCellPass(f, i);
+    });
+    const std::uint32_t waiting = rawStats_[gpu_shared::kProbeStatBounceRays];
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, waiting, 64), [&](auto r) {
+      auto local = base;
+      for (std::uint32_t i = r.begin(); i < r.end(); ++i) local.probeBounceRayPass(f, i);
+    });
+  }
   // Blend, then borders (probe_blend.comp, two dispatches).
   tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
     auto local = base;

@@ -25,6 +25,10 @@ struct ProbeFieldSizes {
   std::size_t depthTexels = 0;       // vec2 each
   std::size_t rays = 0;              // 2 vec4 each: result, direction (list capacity x rays)
   std::size_t cacheEntries = 0;      // uvec2 each (probes x rotations x rays; 1 when off)
+  // uvec4 each: the bounce passes' work (probe_bounce.comp): cells to look up, then rays that
+  // wait for one, each at most one per ray (2 x list capacity x rays; 1 when the cells are off).
+  // The bounce cells themselves (uvec2 per atlas material voxel) grow with the atlas.
+  std::size_t bounceWork = 0;
   std::size_t bytes() const;
 };
 ProbeFieldSizes probeFieldSizes(const ProbeFieldSettings& s, std::uint32_t cascades);
@@ -41,6 +45,8 @@ struct ProbeFieldStats {
   std::uint32_t objectRays = 0;   // rays that searched the moving objects (GPU only)
   std::uint32_t objectHits = 0;   // ... and hit one before the static scene
   std::uint32_t objectSteps = 0;  // object sphere-tracing steps
+  std::uint32_t bounceCells = 0;  // bounce cells looked up afresh (probe_trace.glsl)
+  std::uint32_t bounceRays = 0;   // rays that waited for a bounce cell or looked up their own
 };
 ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw);
 
@@ -84,6 +90,8 @@ class ProbeFieldCpu {
   std::span<const glm::vec2> depth() const { return depth_; }
   std::span<const glm::vec4> probeData() const { return data_; }
   std::span<const glm::uvec2> hitCache() const { return cache_; }
+  // The bounce cells (probe_trace.glsl), uvec2 per atlas material voxel as two words each.
+  std::span<const std::uint32_t> bounceCells() const { return bounceCells_; }
   const ProbeFieldFrame& lastFrame() const { return frame_; }
   // The global probes the last update traced and blended, in list order.
   std::span<const std::uint32_t> lastUpdateList() const {
@@ -102,6 +110,8 @@ class ProbeFieldCpu {
   std::vector<glm::vec2> depth_;
   std::vector<glm::vec4> rays_, rayDirs_;
   std::vector<glm::uvec2> cache_;
+  std::vector<std::uint32_t> bounceCells_;  // two words per atlas material voxel
+  std::vector<glm::uvec4> bounceWork_;
   std::vector<std::uint32_t> list_;
   std::vector<std::uint32_t> rawStats_;
   ProbeFieldStats stats_;

@@ -139,6 +139,18 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
                                (std::min(s.vigilantMeanUpdates, 255u) << 24u));
   f.worldToStack = glm::vec4(glm::vec3(stack.cascade0MinWorld),
                              stack.voxelSize0 > 0.0 ? float(1.0 / stack.voxelSize0) : 0.0f);
+  // Bounce cells: shared for several updates only where the field is calm. While every probe
+  // is new, and in a light switch's vigilance, the bounces build up one per update, and a cell
+  // looked up an update ago would hold each of them back an update.
+  if (first_) buildingUntil_ = std::max(buildingUntil_, updates_ + s.vigilantFrames);
+  if (in.lightsChanged) buildingUntil_ = std::max(buildingUntil_, updates_ + switchVigilance);
+  const bool building = updates_ < buildingUntil_ || in.lightSwitchCatchUp;
+  // z: where the bounce passes' list of waiting rays starts, after room for one cell per ray
+  // (ProbeFieldSizes::bounceWork).
+  f.bounce =
+      glm::uvec4(updates_, building ? std::min(s.bounceCellUpdates, 1u) : s.bounceCellUpdates,
+                 s.listCapacity(cascades) * s.raysPerProbe, 0u);
+  ++updates_;
 
   gridOrigins_ = std::move(gridOrigins);
   windowWorld_ = std::move(windowWorld);

@@ -31,9 +31,12 @@ layout(std430, binding = 18) readonly buffer Queries { ProbeQuery queries[]; };
 layout(std430, binding = 19) writeonly buffer Results { vec4 results[]; };
 layout(std430, binding = 20) buffer DispatchArgs { uint dispatchArgs[]; };
 layout(std430, binding = 21) buffer RayDirs { vec4 rayDirs[]; };
+layout(std430, binding = 30) buffer BounceCells { uint bounceCells[]; };
+layout(std430, binding = 31) buffer BounceWork { uvec4 bounceWork[]; };
 
 // Moving objects (gi/object_scene.h): bindings 22-29; a frame without objects binds the probe
-// field's placeholders and leaves kProbeOptionObjects clear.
+// field's placeholders and leaves kProbeOptionObjects clear. 30-31 (above) are the bounce cells
+// and their passes' work: 32 in all, the least maxPushDescriptors Vulkan allows.
 #define OBJ_BINDING_BASE 22
 #include "shaders/object_bindings.glsl"
 
@@ -52,6 +55,17 @@ void probeStatCount(uint i, uint v) {
   if (subgroupElect()) atomicAdd(stats[i], total);
 }
 #define PROBE_STAT_COUNT(i, v) probeStatCount(i, v)
+
+// A slot of list i (its length a stats word) for each invocation that calls this: one atomic
+// per subgroup. The first active invocation is both the one elected and the one broadcast from.
+#extension GL_KHR_shader_subgroup_ballot : require
+uint probeAppend(uint i) {
+  uvec4 ballot = subgroupBallot(true);
+  uint base = 0u;
+  if (subgroupElect()) base = atomicAdd(stats[i], subgroupBallotBitCount(ballot));
+  return subgroupBroadcastFirst(base) + subgroupBallotExclusiveBitCount(ballot);
+}
+#define PROBE_APPEND(i) probeAppend(i)
 
 #include "shaders/probe_field_storage.glsl"
 

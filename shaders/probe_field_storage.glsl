@@ -34,6 +34,17 @@
 #define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
 #define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
 #define LIGHT_RADIANCE(m) lightRadiance[m]
+// Bounce cells (probe_trace.glsl): two words per material voxel, irradiance then the word the
+// trace pass claims with a compare-and-swap.
+#define LIGHT_BOUNCE_E(m) bounceCells[2u * (m)]
+#define LIGHT_BOUNCE_WORD(m) bounceCells[2u * (m) + 1u]
+#define LIGHT_BOUNCE_CLAIM(m, old, new) atomicCompSwap(bounceCells[2u * (m) + 1u], old, new)
+#define PROBE_BOUNCE_WORK(i) bounceWork[i]
+// The next free slot of list `i` (a counter among the stats): a pass may aggregate per subgroup
+// (probe_bindings.glsl).
+#ifndef PROBE_APPEND
+#define PROBE_APPEND(i) PROBE_STAT_ADD(i, 1u)
+#endif
 #define PROBE_LIST(i) updateList[i]
 #define PROBE_STAT(i) stats[i]
 #define PROBE_STAT_ADD(i, v) atomicAdd(stats[i], v)

@@ -103,6 +103,10 @@ struct ProbeFrame {
   vec4 worldToStack;     // xyz: cascade 0's minimum corner, world metres; w: 1 / cascade-0 voxel
                          // size (1/m): stack = (world - xyz) * w, as CascadeStackImage::toStack;
                          // engines' world-space queries (sdfstream/probe_sample.glsl) (128..143)
+  uvec4 bounce;          // the bounce cells (probe_trace.glsl): x: this update's stamp (updates
+                         // since the field's reset), y: updates a cell's bounce serves (0: every
+                         // hit looks the probes up itself), z: first work item of the
+                         // rays' list (list capacity x rays), w: 0                  (144..159)
 };
 
 SDF_CONST uint kProbeOptionHitCache = 1u;
@@ -135,6 +139,8 @@ SDF_CONST uint kProbeObjectMaskShift = 16u;
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
 SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probes below the cutoff
 SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
+SDF_CONST uint kProbeBounceModeCells = 0u;    // probe_bounce.comp: look up the listed cells
+SDF_CONST uint kProbeBounceModeRays = 1u;     // probe_bounce.comp: add the waiting rays' terms
 SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 356u;   // 10² irradiance + 16² depth tile texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
@@ -157,7 +163,20 @@ SDF_CONST uint kProbeStatCacheInvalidated = 12u;
 SDF_CONST uint kProbeStatObjectRays = 13u;   // rays that searched the moving objects
 SDF_CONST uint kProbeStatObjectHits = 14u;   // ... and hit one before the static scene
 SDF_CONST uint kProbeStatObjectSteps = 15u;  // object sphere-tracing steps
-SDF_CONST uint kProbeStatCount = 16u;
+SDF_CONST uint kProbeStatBounceCells = 16u;  // bounce cells looked up afresh this update
+SDF_CONST uint kProbeStatBounceRays = 17u;   // rays that waited for a bounce cell, or had none
+SDF_CONST uint kProbeStatCount = 18u;
+
+// A bounce cell (probe_trace.glsl, "Bounce cells"): per static material voxel, the probe field's
+// irradiance at its surface point, uvec2(RGB9E5 irradiance, word). The word: valid, pending (a
+// ray claimed the cell's lookup this update), surface (the cell has a surface point; else every
+// hit there looks the probes up itself), the 16-bit stamp of the update that looked it up, and
+// the cell's normal (octahedral, 6 + 6 bits).
+SDF_CONST uint kBounceCellValid = 0x80000000u;
+SDF_CONST uint kBounceCellPending = 0x40000000u;
+SDF_CONST uint kBounceCellSurface = 0x20000000u;
+SDF_CONST uint kBounceCellStampShift = 12u;
+SDF_CONST uint kBounceCellNormalMask = 0xfffu;
 
 // One irradiance query of probe_sample.comp (irradiance(x, n, view) of the field).
 struct ProbeQuery {
@@ -175,7 +194,8 @@ static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, countsRays) == 16);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 64);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, prevWindow) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 144);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 160);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, bounce) == 144);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);

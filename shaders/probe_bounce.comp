@@ -1,0 +1,17 @@
+#version 450
+// Probe field, bounce cells (probe_trace.glsl, "Bounce cells"), after the trace pass: mode
+// kProbeBounceModeCells looks up the cells the trace listed, then kProbeBounceModeRays adds the
+// multi-bounce term to the rays that waited for them. Dispatched like the trace (one thread per
+// listed ray, an upper bound on either list); threads past a list's length return.
+#extension GL_GOOGLE_include_directive : require
+#include "shaders/probe_bindings.glsl"
+
+void main() {
+  uint id = probeInvocation();
+  if (id >= pc.dispatch.y) return;
+  if (pc.dispatch.x == kProbeBounceModeCells) {
+    if (id < stats[kProbeStatBounceCells]) probeBounceCellPass(frame, id);
+  } else if (id < stats[kProbeStatBounceRays]) {
+    probeBounceRayPass(frame, id);
+  }
+}
