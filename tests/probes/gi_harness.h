@@ -75,4 +75,17 @@ struct GiHarness {
   }
 };
 
+// The probe field tests' bunny scene: a sun and a blue sky (set on `h`), and the inputs of a
+// frame seen from the streamed bunny's camera (its position) towards the bunny.
+inline probe::ProbeFrameInputs lightBunnyScene(GiHarness& h, const CascadeStackImage& img,
+                                               glm::dvec3 camera) {
+  h.sky.zenith = glm::vec4(0.5f, 0.6f, 0.9f, 0.0f);
+  h.sky.horizon = glm::vec4(0.8f, 0.8f, 0.8f, 0.0f);
+  h.lights = sunLights(img, glm::vec3(-0.3f, -1.0f, -0.4f), 3.0f);
+  probe::ProbeFrameInputs in;
+  in.cameraWorld = camera;
+  in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - camera));
+  return in;
+}
+
 }  // namespace sdfstream::test

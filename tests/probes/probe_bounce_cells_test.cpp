@@ -149,12 +149,7 @@ TEST_F(ProbeBounceCellsTest, GpuMatchesCpuWhileCellsServeSeveralUpdates) {
   s.vigilantFrames = 2;
   s.lightSwitchVigilantUpdates = 2;
   test::GiHarness h(ctx(), s, 3);
-  h.sky.zenith = glm::vec4(0.5f, 0.6f, 0.9f, 0.0f);
-  h.sky.horizon = glm::vec4(0.8f, 0.8f, 0.8f, 0.0f);
-  h.lights = test::sunLights(img, glm::vec3(-0.3f, -1.0f, -0.4f), 3.0f);
-  ProbeFrameInputs in;
-  in.cameraWorld = b.camera;
-  in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - b.camera));
+  ProbeFrameInputs in = test::lightBunnyScene(h, img, b.camera);
   std::uint32_t cellsLookedUp[2] = {0, 0};
   for (std::uint64_t frame = 0; frame < 12; ++frame) {
     in.lightsChanged = frame == 0;

@@ -42,12 +42,7 @@ std::size_t depthTexelsWithin(const Cpu& cpu, const Gpu& gpu) {
 // Four frames of the GPU and CPU fields around the bunny's camera: sun + sky.
 void warmBunnyField(test::GiHarness& h, const test::StreamedBunny& b,
                     const CascadeStackImage& img) {
-  h.sky.zenith = glm::vec4(0.5f, 0.6f, 0.9f, 0.0f);
-  h.sky.horizon = glm::vec4(0.8f, 0.8f, 0.8f, 0.0f);
-  h.lights = test::sunLights(img, glm::vec3(-0.3f, -1.0f, -0.4f), 3.0f);
-  ProbeFrameInputs in;
-  in.cameraWorld = b.camera;
-  in.viewDirection = glm::vec3(glm::normalize(glm::dvec3(0.0, 0.1, 0.0) - b.camera));
+  ProbeFrameInputs in = test::lightBunnyScene(h, img, b.camera);
   for (std::uint64_t frame = 0; frame < 4; ++frame) {
     in.lightsChanged = frame == 0;
     h.step(img, in, frame);
