@@ -341,8 +341,7 @@ void probeCacheCheckPass(ProbeFrame f, uint i) {
   uint slot = (i % perProbe) / n;
   uint ray = i % n;
   uint c = g / f.counts.y;
-  ProbeVolume v = PROBE_VOLUME(c);
-  vec3 o = probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(PROBE_DATA(g));
+  vec3 o = probePosition(f, g);
   bool valid = probeCacheStillValid(f, c, o, probeRotationSlotDirection(slot, ray, n), e);
   if (!valid) PROBE_CACHE(i) = uvec2(0u);
   PROBE_STAT_COUNT(kProbeStatCacheInvalidated, valid ? 0u : 1u);

@@ -57,6 +57,12 @@ struct ProbeCage {
   uint traceMask;     // bit per corner whose SDF test is open
 };
 
+// Global probe g's position (relocated), cascade-0 voxels.
+vec3 probePosition(ProbeFrame f, uint g) {
+  ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
+  return probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(PROBE_DATA(g));
+}
+
 // Logical coordinate of a cage corner (clamped to the grid).
 ivec3 probeCageCorner(ProbeVolume v, ProbeCage cage, uint corner) {
   ivec3 lc = cage.base + ivec3(int(corner & 1u), int((corner >> 1u) & 1u), int((corner >> 2u) & 1u));

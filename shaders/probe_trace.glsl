@@ -227,9 +227,7 @@ void probeBounceRayPass(ProbeFrame f, uint r) {
     e = unpackRgb9e5(LIGHT_BOUNCE_E(m));
   } else {
     uint rays = PROBE_VOLUME(0u).countsRays.w;  // every volume has the same rays per probe
-    uint g = PROBE_LIST(rayIndex / rays);
-    ProbeVolume v = PROBE_VOLUME(g / f.counts.y);
-    vec3 o = probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(PROBE_DATA(g));
+    vec3 o = probePosition(f, PROBE_LIST(rayIndex / rays));
     vec3 dir = vec3(PROBE_RAY_DIR(rayIndex));
     e = probeFieldIrradiance(f, o + dir * uintBitsToFloat(hit.x), n, -dir, false, -1);
   }
@@ -266,7 +264,7 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
   uint c = g / f.counts.y;
   ProbeVolume v = PROBE_VOLUME(c);
   uint n = v.countsRays.w;
-  vec3 o = probeGridPosition(v, probeLogicalCoord(v, g % f.counts.y)) + vec3(PROBE_DATA(g));
+  vec3 o = probePosition(f, g);
   vec3 dir = probeRayDirection(ray, n, probeVolumeRotation(v));
   ProbeRayHit h;
   bool useCache = (f.options.x & kProbeOptionHitCache) != 0u;
