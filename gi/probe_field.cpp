@@ -46,7 +46,11 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       depth_(deviceBuffer(context, sizes_.depthTexels * 8)),
       rays_(deviceBuffer(context, sizes_.rays * 16)),
       cache_(deviceBuffer(context, sizes_.cacheEntries * 8)),
-      rotations_(deviceBuffer(context, 3 * std::max(1u, settings.cacheRotations) * 16)),
+      rayPattern_(
+          deviceBuffer(context, (3 * std::max(1u, settings.cacheRotations) +
+                                 gpu_shared::kProbeDepthInterior * gpu_shared::kProbeDepthInterior *
+                                     gpu_shared::kProbeDepthListVec4s) *
+                                    16)),
       list_(deviceBuffer(context, std::size_t(settings.listCapacity(cascades)) * 4)),
       statsBuffer_(deviceBuffer(context, gpu_shared::kProbeStatCount * 4)),
       pageChanged_(deviceBuffer(context, std::size_t(cascades) * 128 * 4)),
@@ -82,7 +86,7 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                        &depth_,
                                        &rays_,
                                        &cache_,
-                                       &rotations_,
+                                       &rayPattern_,
                                        &list_,
                                        &statsBuffer_,
                                        &pageChanged_,
@@ -154,7 +158,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   }
   staging.upload(batch, frame_, 0, &lastFrame_.constants, sizeof lastFrame_.constants);
   staging.upload(batch, volumes_, std::span(std::as_const(lastFrame_.volumes)));
-  staging.upload(batch, rotations_, std::span(std::as_const(lastFrame_.rotations)));
+  staging.upload(batch, rayPattern_, std::span(std::as_const(lastFrame_.rayPattern)));
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
   while (statsReadback_.size() < staging.framesInFlight())
     statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4,

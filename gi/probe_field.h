@@ -106,9 +106,9 @@ class ProbeField {
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
   gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, bounce_, blend_, border_, sample_;
-  // frame_, volumes_, rotations_ and pageChanged_ are written every frame through the staging
+  // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
-  gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rotations_,
+  gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;
   gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)

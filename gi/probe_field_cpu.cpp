@@ -32,7 +32,7 @@ struct FieldPasses {
   const CascadeTraceParams* cascades = nullptr;
   const std::uint32_t* lightRadiance = nullptr;
   const ProbeVolume* volumes = nullptr;
-  const glm::vec4* rotations = nullptr;
+  const glm::vec4* rayPattern = nullptr;
   const std::uint32_t* pageChanged = nullptr;
   glm::vec4* irradiance = nullptr;
   glm::vec2* depth = nullptr;
@@ -74,6 +74,7 @@ struct FieldPasses {
 #undef PROBE_RAY
 #undef PROBE_RAY_DIR
 #undef PROBE_RAY_STORED
+#undef PROBE_RAY_PATTERN
 #undef PROBE_DISPATCH_ARGS
 #undef PROBE_VOLUME
 #undef PROBE_DATA
@@ -161,7 +162,7 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   field_detail::FieldPasses base(stack);
   base.lightRadiance = light.data();
   base.volumes = frame_.volumes.data();
-  base.rotations = frame_.rotations.data();
+  base.rayPattern = frame_.rayPattern.data();
   base.pageChanged = frame_.pageChanged.data();
   base.irradiance = irradiance_.data();
   base.depth = depth_.data();
@@ -327,7 +328,7 @@ glm::vec3 ProbeFieldCpu::probePosition(std::uint32_t g) const {
 glm::vec2 ProbeFieldCpu::traceFresh(const CascadeStackImage& stack, std::uint32_t g,
                                     std::uint32_t slot, std::uint32_t ray) const {
   field_detail::FieldPasses base(stack);
-  base.rotations = frame_.rotations.data();
+  base.rayPattern = frame_.rayPattern.data();
   const std::uint32_t c = g / settings_.probesPerVolume();
   const glm::vec3 dir = base.probeRotationSlotDirection(slot, ray, settings_.raysPerProbe);
   const auto h = base.probeTraceFresh(frame_.constants, c, probePosition(g), dir);

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "gi/probe_depth_lists.h"
 #include "gi/probe_math.h"
 
 namespace sdfstream::probe {
@@ -40,12 +41,22 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   const std::uint64_t mix = s.rotationSeed * 0x9E3779B97F4A7C15ull;
   for (std::uint32_t r = 0; r < slots; ++r) {
     const glm::mat3 m = randomRotation(mix + r);
-    for (int k = 0; k < 3; ++k) out.rotations.push_back(glm::vec4(m[k], 0.0f));
+    for (int k = 0; k < 3; ++k) out.rayPattern.push_back(glm::vec4(m[k], 0.0f));
   }
   const std::uint64_t rotationFrame = frame + in.rotationShift;
   const std::uint32_t slot = cycle ? std::uint32_t(rotationFrame % slots) : 0u;
   const glm::mat3 rotation =
       cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + rotationFrame);
+  // The depth texels' ray lists of this frame's pattern, after the rotations: built once per
+  // slot of a cycle, every frame otherwise (a fresh rotation).
+  if (cycle) {
+    if (depthLists_.size() != slots) depthLists_.assign(slots, {});
+    if (depthLists_[slot].empty())
+      appendDepthRayLists(rotation, s.raysPerProbe, s.depthSharpness, depthLists_[slot]);
+    out.rayPattern.insert(out.rayPattern.end(), depthLists_[slot].begin(), depthLists_[slot].end());
+  } else {
+    appendDepthRayLists(rotation, s.raysPerProbe, s.depthSharpness, out.rayPattern);
+  }
 
   std::vector<glm::ivec3> gridOrigins(cascades);
   std::vector<glm::dvec3> windowWorld(cascades);

@@ -177,7 +177,9 @@ struct ProbeFieldFrame {
   gpu_shared::ProbeFrame constants{};
   std::vector<gpu_shared::ProbeVolume> volumes;
   std::vector<std::uint32_t> pageChanged;  // cascades x 128 words: bit i = entry i changed
-  std::vector<glm::vec4> rotations;        // cacheRotations x 3 columns
+  // The ray pattern: cacheRotations x 3 rotation columns, then this frame's depth texels' ray
+  // lists (probe_layout.h, kProbeDepthList*).
+  std::vector<glm::vec4> rayPattern;
 };
 
 // Builds successive frames; remembers the previous frame's windows and page tables.
@@ -197,6 +199,7 @@ class ProbeFieldFrameBuilder {
   bool driftedBefore_ = false;             // the previous frame had kProbeOptionLightsDrifting
   std::uint32_t updates_ = 0;        // frames built (the bounce cells' stamps; never restarts)
   std::uint32_t buildingUntil_ = 0;  // the bounces build up until here (new field, light switch)
+  std::vector<std::vector<glm::vec4>> depthLists_;  // per rotation slot of the cycle
 };
 
 }  // namespace sdfstream::probe

@@ -7,13 +7,16 @@
 // reading the rays from the ray buffer loaded 232 x 128 x 32 bytes per probe through L1. The
 // workgroup instead stages the rays in shared memory, kBlendRayChunk at a time, each read once
 // from the ray buffer, and every thread accumulates its texels (up to 4) one after the other. The
-// sums are added in ray order, as probeBlendPass (the CPU reference) adds them.
+// sums are added in ray order, as probeBlendPass (the CPU reference) adds them. A depth texel reads
+// only the rays its list names (probe_update.glsl, probeDepthTexelSumsListed): ~13 instead of 128,
+// each with its weight from the list instead of a pow.
 #extension GL_GOOGLE_include_directive : require
 #include "shaders/shared/probe_layout.h"
 
 #define kBlendRayChunk 128u
 shared vec4 blendRay[kBlendRayChunk];
 shared vec4 blendRayDir[kBlendRayChunk];
+shared uint blendBackfaces;  // the probe's rays that hit a backface (probeBlendStatesFromCount)
 uint blendChunkBase;  // the PROBE_RAY index blendRay[0] holds
 #define PROBE_RAY(i) blendRay[(i)-blendChunkBase]
 #define PROBE_RAY_DIR(i) blendRayDir[(i)-blendChunkBase]
@@ -27,7 +30,11 @@ void blendInterior() {
   uint l = probeInvocation() / kProbeBlendThreadsPerProbe;
   uint lane = gl_LocalInvocationIndex;
   if (l >= probeListLength()) return;
-  if (lane == 0u) probeBlendStates(frame, l);
+  // The backfaces are counted by every lane as it stages the rays (lane 0 alone, one ray after
+  // the other, kept the others waiting at the first barrier).
+  bool states = (frame.options.x & kProbeOptionStates) != 0u;
+  if (lane == 0u) blendBackfaces = 0u;
+  uint backfaces = 0u;
   // A texel at a time, its sums in registers (arrays of the thread's texels were kept in local
   // memory by the driver, 288 bytes a thread; unrolling them instead cost occupancy: 96
   // registers, blend +9% on the H100). When the probe's rays fit one chunk, they are staged once
@@ -46,6 +53,7 @@ void blendInterior() {
         for (uint r = lane; r < count; r += kProbeBlendThreadsPerProbe) {
           blendRay[r] = PROBE_RAY_STORED(rayBase + first + r);
           blendRayDir[r] = rayDirs[rayBase + first + r];
+          if (k == 0u && blendRay[r].w < 0.0f) ++backfaces;
         }
         barrier();
       }
@@ -53,6 +61,12 @@ void blendInterior() {
       if (has) sums = probeBlendAccumulate(frame, t, rayBase + first, count, sums);
     }
     if (has) probeBlendFinish(frame, t, sums);
+  }
+  if (states) {  // uniform over the workgroup
+    uint total = subgroupAdd(backfaces);
+    if (subgroupElect()) atomicAdd(blendBackfaces, total);
+    barrier();
+    if (lane == 0u) probeBlendStatesFromCount(frame, l, blendBackfaces);
   }
 }
 

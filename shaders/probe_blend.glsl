@@ -15,6 +15,7 @@ struct ProbeBlendTexel {
   float shape;      // irradiance: the encoding's gamma; depth: the weight's sharpness
   uint rayBase;     // this probe's first ray: list position x rays per probe
   uint n;           // rays per probe
+  uint depthList;   // depth: PROBE_RAY_PATTERN index of the texel's ray list
 };
 
 // Texel `local` (< 36 irradiance, else depth) of the probe at list position l.
@@ -39,12 +40,14 @@ ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
     t.h = vigilant ? probeVigilantHysteresis(f, v.blend.x, left, closing)
                    : drifting ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
     t.shape = v.blend.w;
+    t.depthList = 0u;
   } else {
     uint d = local - irrCount;
     t.texel = uvec2(d % kProbeDepthInterior, d / kProbeDepthInterior);
     t.index = probeDepthIndex(g, t.texel + uvec2(kProbeBorderTexels));
     t.h = vigilant ? min(v.blend.y, f.view.w) : v.blend.y;
     t.shape = v.visibility.y;
+    t.depthList = 3u * f.selection.z + d * kProbeDepthListVec4s;  // after the rotations
   }
   return t;
 }
@@ -55,6 +58,10 @@ vec4 probeBlendAccumulate(ProbeFrame f, ProbeBlendTexel t, uint first, uint coun
   if (t.irradiance)
     return probeIrradianceTexelSums(first, count, t.texel,
                                     (f.options.x & kProbeOptionBackfacesBlack) != 0u, sums);
+  uint listed = floatBitsToUint(PROBE_RAY_PATTERN(t.depthList).x);
+  if (listed != kProbeDepthListDense)
+    return vec4(probeDepthTexelSumsListed(t.rayBase, first, count, t.depthList, listed, vec3(sums)),
+                0.0f);
   return vec4(probeDepthTexelSums(first, count, t.texel, t.shape, vec3(sums)), 0.0f);
 }
 
@@ -70,16 +77,23 @@ void probeBlendFinish(ProbeFrame f, ProbeBlendTexel t, vec4 sums) {
 }
 
 // M21 Sec. 5: a probe with more than a quarter of its rays on backfaces is inside geometry
-// (with states on; once per probe, before its texels). Reads the rays from PROBE_RAY_STORED.
-void probeBlendStates(ProbeFrame f, uint l) {
-  if ((f.options.x & kProbeOptionStates) == 0u) return;
+// (with states on; once per probe, before or after its texels, which do not read it), from the
+// count of its rays that hit a backface.
+void probeBlendStatesFromCount(ProbeFrame f, uint l, uint backfaces) {
   uint g = PROBE_LIST(l);
   uint n = PROBE_VOLUME(g / f.counts.y).countsRays.w;
-  uint backfaces = 0u;
-  for (uint r = 0u; r < n; ++r) backfaces += PROBE_RAY_STORED(l * n + r).w < 0.0f ? 1u : 0u;
   uvec4 hist = PROBE_HISTORY(g);
   bool inside = 4u * backfaces > n;
   PROBE_HISTORY(g) = uvec4(hist.x, hist.y, hist.z, (hist.w & 0x7fffffffu) | (inside ? 0x80000000u : 0u));
+}
+
+// The same, counting the rays from PROBE_RAY_STORED one after the other.
+void probeBlendStates(ProbeFrame f, uint l) {
+  if ((f.options.x & kProbeOptionStates) == 0u) return;
+  uint n = PROBE_VOLUME(PROBE_LIST(l) / f.counts.y).countsRays.w;
+  uint backfaces = 0u;
+  for (uint r = 0u; r < n; ++r) backfaces += PROBE_RAY_STORED(l * n + r).w < 0.0f ? 1u : 0u;
+  probeBlendStatesFromCount(f, l, backfaces);
 }
 
 // Blend pass body (interior texels) with every ray at once: `local` < 36 irradiance texel, else

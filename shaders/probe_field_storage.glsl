@@ -26,12 +26,13 @@
 #define PROBE_RAY_DIR(i) rayDirs[i]
 #endif
 #define PROBE_RAY_STORED(i) rays[i]
+#define PROBE_RAY_PATTERN(i) rayPattern[i]
 #include "shaders/probe_update.glsl"
 #define PROBE_VOLUME(c) volumes[c]
 #define PROBE_DATA(g) probeData[g]
 #define PROBE_HISTORY(g) history[g]
 #define PROBE_CACHE(i) hitCache[i]
-#define PROBE_ROTATION(r, k) rotations[(r) * 3u + (k)]
+#define PROBE_ROTATION(r, k) PROBE_RAY_PATTERN((r) * 3u + (k))
 #define PROBE_PAGE_CHANGED(c, i) (((pageChanged[(c) * 128u + ((i) >> 5u)] >> ((i) & 31u)) & 1u) != 0u)
 #define LIGHT_RADIANCE(m) lightRadiance[m]
 // Bounce cells (probe_trace.glsl): two words per material voxel, irradiance then the word the

@@ -74,13 +74,13 @@ vec3 probeSrgbToLinear(vec3 c) {
 // Irradiance texel `texel` (0..5 per axis): (rgb·w, w) of the cosine-weighted mean.
 vec4 probeIrradianceTexelSums(uint rayBase, uint n, uvec2 texel, bool backfacesBlack, vec4 sums) {
   vec3 texelDir = probeTexelDirection(texel, kProbeIrradianceInterior);
+  // No branch per ray: the texels of a subgroup face every way, so about half of them weigh any
+  // given ray and a skipped ray saved nothing; a weight of 0 adds exactly nothing to the sums.
   for (uint r = 0u; r < n; ++r) {
-    vec3 rayDir = vec3(PROBE_RAY_DIR(rayBase + r));
-    if (dot(texelDir, rayDir) <= 0.0f) continue;  // weight 0: skip the reads
     vec4 result = PROBE_RAY(rayBase + r);
     // Backface hits (negated depth) carry no light: left out, not blended as black (RTXGI).
-    if (result.w < 0.0f && !backfacesBlack) continue;
-    float w = probeIrradianceWeight(texelDir, rayDir);
+    bool blended = result.w >= 0.0f || backfacesBlack;
+    float w = blended ? probeIrradianceWeight(texelDir, vec3(PROBE_RAY_DIR(rayBase + r))) : 0.0f;
     sums += vec4(vec3(result) * w, w);
   }
   return sums;
@@ -111,6 +111,27 @@ vec3 probeDepthTexelSums(uint rayBase, uint n, uvec2 texel, float sharpness, vec
   }
   return sums;
 }
+
+#ifdef PROBE_RAY_PATTERN
+// Depth texels' ray lists: the same sums as probeDepthTexelSums over the rays its list (block
+// `list` of PROBE_RAY_PATTERN, probe_layout.h kProbeDepthList*) names, `listed` of them, with the
+// weights it holds, for the probe's rays [first, first + count) (PROBE_RAY indices; its rays start
+// at rayBase). The rays left out weigh < kProbeDepthListFloor each, and every probe of the frame
+// shares the pattern, so a texel reads ~11 rays and no pow instead of 128 and 128.
+vec3 probeDepthTexelSumsListed(uint rayBase, uint first, uint count, uint list, uint listed,
+                               vec3 sums) {
+  for (uint e = 0u; e < listed; ++e) {
+    vec4 pair = PROBE_RAY_PATTERN(list + 1u + e / 2u);
+    bool even = (e & 1u) == 0u;
+    uint ray = rayBase + floatBitsToUint(even ? pair.x : pair.z);
+    if (ray < first || ray >= first + count) continue;
+    float w = even ? pair.y : pair.w;
+    float d = abs(PROBE_RAY(ray).w);  // backface depths are stored negated
+    sums += vec3(w * d, w * d * d, w);
+  }
+  return sums;
+}
+#endif
 
 // New stored (mean, mean²), blended with hysteresis h; a texel never written (0, 0) takes the
 // fresh moments (every written texel has a positive mean: depths are > 0).

@@ -144,6 +144,18 @@ SDF_CONST uint kProbeBounceModeRays = 1u;     // probe_bounce.comp: add the wait
 SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeTileTexelsPerProbe = 356u;   // 10² irradiance + 16² depth tile texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
+// The depth blend's ray lists (probe_update.glsl, "Depth texels' ray lists"): every probe of a
+// frame casts the same pattern, so a depth texel's power-cosine weights are frame constants. Per
+// depth interior texel, the rays whose weight is at least kProbeDepthListFloor of its nearest
+// ray's (13 a texel on average at sharpness 50 over 32-256 rays; the mean depth moves < 1e-3), in
+// ray order, at most kProbeDepthListRays; a texel with more (a wide lobe, many rays) is marked
+// dense and blends every ray. They follow the rotations in the ray-pattern buffer, one block of
+// kProbeDepthListVec4s vec4 per texel: x of the first = the count (uint bits, or
+// kProbeDepthListDense), then (ray, weight) pairs, two per vec4 (ray as uint bits).
+SDF_CONST uint kProbeDepthListRays = 32u;
+SDF_CONST uint kProbeDepthListVec4s = 17u;  // 1 + kProbeDepthListRays / 2
+SDF_CONST uint kProbeDepthListDense = 0xffffffffu;
+SDF_CONST float kProbeDepthListFloor = 3e-5f;  // of the texel's nearest ray's weight
 // probe_sample.comp: consecutive queries (neighbouring pixels) that split the SDF tests of a
 // cage they share (a power of two dividing the workgroup's 64).
 SDF_CONST uint kProbeSampleShareLanes = 4u;
@@ -217,6 +229,8 @@ static_assert(sdfstream::gpu_shared::kProbeIrradianceInterior +
 static_assert(sdfstream::gpu_shared::kProbeDepthInterior +
                   2 * sdfstream::gpu_shared::kProbeBorderTexels ==
               sdfstream::gpu_shared::kProbeDepthTexels);
+static_assert(sdfstream::gpu_shared::kProbeDepthListVec4s ==
+              1 + sdfstream::gpu_shared::kProbeDepthListRays / 2);
 #endif
 
 #endif

@@ -32,7 +32,7 @@ TEST(ProbeFieldFrame, ARotationShiftTakesAnotherRotationOfTheCycle) {
   EXPECT_NE(first.volumes[0].rayRotationCol0, second.volumes[0].rayRotationCol0);
   // The slot's rotation is the one the cache's table holds for it, and the select pass's share
   // of an overflowing class moves on with the shift too (other probes where not all fit).
-  EXPECT_EQ(glm::vec3(second.volumes[0].rayRotationCol0), glm::vec3(second.rotations[3 * 3]));
+  EXPECT_EQ(glm::vec3(second.volumes[0].rayRotationCol0), glm::vec3(second.rayPattern[3 * 3]));
   EXPECT_EQ(first.constants.options.y, 5u);
   EXPECT_EQ(second.constants.options.y, 7u);
 }
