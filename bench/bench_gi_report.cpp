@@ -153,7 +153,7 @@ std::string resultsCsv(const std::vector<SceneReport>& scenes) {
   csv << "scene,config,family,rays,spacing_bricks,cascades,hit_cache,states,relocation,visibility,"
          "probes,update_ms,sample_ms,frame_ms,frame_best_ms,frame_worst_ms,sample_ns_per_query,"
          "light_relight_ms,classify_ms,"
-         "select_ms,trace_ms,blend_ms,border_ms,probes_updated,rays_traced,rays_cached,steps,"
+         "select_ms,trace_ms,blend_ms,probes_updated,rays_traced,rays_cached,steps,"
          "relmse,flip,energy_ratio,frames_to_converge,probe_mib,light_mib,atlas_mib,memory_mib,"
          "pareto,"
          "wall_s,flat_spread,flat_spread_reference\n";
@@ -169,12 +169,11 @@ std::string resultsCsv(const std::vector<SceneReport>& scenes) {
           << c.frameMs << ',' << c.frameBestMs << ',' << c.frameWorstMs << ',' << c.sampleNsPerQuery
           << ',' << c.lightRelightMs << ',' << pass("probe_classify") << ','
           << pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args")
-          << ',' << pass("probe_trace") << ',' << pass("probe_blend") << ',' << pass("probe_border")
-          << ',' << c.probesUpdated << ',' << c.raysTraced << ',' << c.raysCached << ',' << c.steps
-          << ',' << c.relMSE << ',' << c.flip << ',' << c.energyRatio << ',' << c.framesToConverge
-          << ',' << c.probeMiB << ',' << c.lightMiB << ',' << c.atlasMiB << ',' << c.memoryMiB()
-          << ',' << c.pareto << ',' << c.wallSeconds << ',' << c.flatSpread << ','
-          << c.flatSpreadReference << '\n';
+          << ',' << pass("probe_trace") << ',' << pass("probe_blend") << ',' << c.probesUpdated
+          << ',' << c.raysTraced << ',' << c.raysCached << ',' << c.steps << ',' << c.relMSE << ','
+          << c.flip << ',' << c.energyRatio << ',' << c.framesToConverge << ',' << c.probeMiB << ','
+          << c.lightMiB << ',' << c.atlasMiB << ',' << c.memoryMiB() << ',' << c.pareto << ','
+          << c.wallSeconds << ',' << c.flatSpread << ',' << c.flatSpreadReference << '\n';
     }
   return csv.str();
 }
@@ -194,8 +193,9 @@ void writeMethod(std::ostringstream& md, const RunInfo& run) {
         "ACES-tone-mapped images of albedo/π·E (same exposure for both: 0.18 / mean reference "
         "luminance of the view).\n"
      << "- **Time**: GPU timestamps, median over the measured frames after the warm-up. "
-        "*update* = every probe pass of one frame (classify, select count/emit, trace, blend, "
-        "border); *sample* = `probe_sample` for one view's visible points; *frame* = update + "
+        "*update* = every probe pass of one frame (classify, select count/emit, trace, bounce "
+        "cells, blend with the tiles' borders); *sample* = `probe_sample` for one view's visible "
+        "points; *frame* = update + "
         "sample. The light cache relights only dirty pages, i.e. nothing in a static frame: its "
         "full relight (all resident pages, the frame after a light change) is listed apart. On "
         "lavapipe all of this is CPU time on this machine's cores.\n"
@@ -381,14 +381,13 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
         "at one probe per brick (9³ / 5³ at 2 / 4 bricks), so the nearest count we can run is "
         "2 cascades × 17³ = 9,826 probes (within 0.3%). Our default uses "
      << (s.configs.size() > 1 ? std::to_string(s.configs[1].cascades) : "?") << " cascades.\n\n"
-     << "| config | probes | rays/probe | classify | select | trace | bounce cells | blend | "
-        "border "
+     << "| config | probes | rays/probe | classify | select | trace | bounce cells | blend "
         "| **probe update** | **sampling** | ns/query | **light cache** (full relight, first "
         "frame) "
         "| relight, warm median of 5 | probes updated | "
         "rays traced | rays cached | fresh G rays/s | MiB "
         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,bounce_ms,blend_ms,border_ms,"
+  csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,bounce_ms,blend_ms,"
          "update_ms,"
          "sample_ms,sample_ns_per_query,light_relight_ms,light_relight_warm_ms,probes_updated,"
          "rays_traced,rays_cached,fresh_grays_per_s,memory_mib\n";
@@ -407,18 +406,18 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
     md << "| " << c.config << " | " << c.probes << " | " << c.rays << " | "
        << fmt("%.3f", pass("probe_classify")) << " | " << fmt("%.3f", select) << " | "
        << fmt("%.3f", pass("probe_trace")) << " | " << fmt("%.3f", bounce) << " | "
-       << fmt("%.3f", pass("probe_blend")) << " | " << fmt("%.3f", pass("probe_border")) << " | "
-       << fmt("%.3f", c.updateMs) << " | " << fmt("%.3f", c.sampleMs) << " | "
-       << fmt("%.2f", c.sampleNsPerQuery) << " | " << fmt("%.3f", c.lightRelightMs) << " | "
-       << fmt("%.3f", c.lightRelightWarmMs) << " | " << fmt("%.0f", c.probesUpdated) << " | "
-       << fmt("%.0f", c.raysTraced) << " | " << fmt("%.0f", c.raysCached) << " | "
-       << fmt("%.3f", freshRate) << " | " << fmt("%.1f", c.memoryMiB()) << " |\n";
+       << fmt("%.3f", pass("probe_blend")) << " | " << fmt("%.3f", c.updateMs) << " | "
+       << fmt("%.3f", c.sampleMs) << " | " << fmt("%.2f", c.sampleNsPerQuery) << " | "
+       << fmt("%.3f", c.lightRelightMs) << " | " << fmt("%.3f", c.lightRelightWarmMs) << " | "
+       << fmt("%.0f", c.probesUpdated) << " | " << fmt("%.0f", c.raysTraced) << " | "
+       << fmt("%.0f", c.raysCached) << " | " << fmt("%.3f", freshRate) << " | "
+       << fmt("%.1f", c.memoryMiB()) << " |\n";
     csv << s.name << ',' << c.config << ',' << c.probes << ',' << c.rays << ','
         << pass("probe_classify") << ',' << select << ',' << pass("probe_trace") << ',' << bounce
-        << ',' << pass("probe_blend") << ',' << pass("probe_border") << ',' << c.updateMs << ','
-        << c.sampleMs << ',' << c.sampleNsPerQuery << ',' << c.lightRelightMs << ','
-        << c.lightRelightWarmMs << ',' << c.probesUpdated << ',' << c.raysTraced << ','
-        << c.raysCached << ',' << freshRate << ',' << c.memoryMiB() << '\n';
+        << ',' << pass("probe_blend") << ',' << c.updateMs << ',' << c.sampleMs << ','
+        << c.sampleNsPerQuery << ',' << c.lightRelightMs << ',' << c.lightRelightWarmMs << ','
+        << c.probesUpdated << ',' << c.raysTraced << ',' << c.raysCached << ',' << freshRate << ','
+        << c.memoryMiB() << '\n';
   }
   md << "\nLight cache under a sun that moves every frame (time of day): a new light every "
         "frame, at most the budget's pages relit per frame (LightRelightQueue: the longest out "

@@ -36,7 +36,6 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       trace_(pipeline(context, gpu::ShaderId::probe_trace)),
       bounce_(pipeline(context, gpu::ShaderId::probe_bounce)),
       blend_(pipeline(context, gpu::ShaderId::probe_blend)),
-      border_(pipeline(context, gpu::ShaderId::probe_border)),
       sample_(pipeline(context, gpu::ShaderId::probe_sample)),
       frame_(deviceBuffer(context, sizeof(gpu_shared::ProbeFrame))),
       volumes_(deviceBuffer(context, cascades * sizeof(gpu_shared::ProbeVolume))),
@@ -180,7 +179,6 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants args = push(gpu_shared::kProbeSelectModeArgs, 1);
   const ProbePushConstants trace = push(0, capacity * settings_.raysPerProbe);
   const ProbePushConstants interior = push(0, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
-  const ProbePushConstants border = push(0, capacity * gpu_shared::kProbeTileTexelsPerProbe);
 
   batch.fill(statsBuffer_, 0u);
   batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
@@ -204,7 +202,6 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                            0);
   }
   batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
-  batch.dispatchIndirect("probe_border", border_, b, &border, sizeof border, dispatchArgs_, 24);
   batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);
 }
 

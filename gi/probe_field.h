@@ -4,7 +4,7 @@
 //   -> select (count per priority class, append within the ray budget, size the next passes)
 //   -> trace + shade (hit cache, else sphere tracing through the stack; light cache + previous
 //      irradiance at hits, through the bounce cells; sky at misses) -> the bounce cells' lookups
-//      -> blend interior texels -> copy borders
+//      -> blend interior texels, each with its border copies
 // and irradiance(x, n, view) queries across cascades (probe_sample.comp). The math is
 // shaders/probe_field.glsl; gi/probe_field_cpu.h is the CPU reference of the same passes.
 #pragma once
@@ -73,7 +73,7 @@ class ProbeField {
   // GPU time per pass of the last update() or sample(): probe_classify, probe_cache_check (frames
   // whose windows scrolled or pages changed), probe_select_count,
   // probe_select_emit, probe_select_args, probe_trace, probe_bounce_cells and probe_bounce_rays
-  // (with bounce cells), probe_blend, probe_border / probe_sample.
+  // (with bounce cells), probe_blend / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
   // Every buffer's bytes, the bounce cells as large as the atlas they last grew to.
@@ -105,14 +105,14 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, bounce_, blend_, border_, sample_;
+  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, bounce_, blend_, sample_;
   // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;
   gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)
-  gpu::Buffer dispatchArgs_;  // group counts of trace / blend / border (probe_select args mode)
+  gpu::Buffer dispatchArgs_;             // group counts of trace / blend (probe_select args mode)
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   gpu::Buffer bounceCells_;   // uvec2 per atlas material voxel (probe_trace.glsl, bounce cells)
   gpu::Buffer bounceWork_;    // the bounce passes' lists (ProbeFieldSizes::bounceWork)

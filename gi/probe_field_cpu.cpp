@@ -222,16 +222,11 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
       for (std::uint32_t i = r.begin(); i < r.end(); ++i) local.probeBounceRayPass(f, i);
     });
   }
-  // Blend, then borders (probe_blend.comp, two dispatches).
+  // Blend: interior texels and their border copies (probe_blend.comp).
   tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
     auto local = base;
     for (std::uint32_t t = 0; t < gpu_shared::kProbeBlendTexelsPerProbe; ++t)
       local.probeBlendPass(f, l, t);
-  });
-  tbb::parallel_for(std::uint32_t(0), listed, [&](std::uint32_t l) {
-    auto local = base;
-    for (std::uint32_t t = 0; t < gpu_shared::kProbeTileTexelsPerProbe; ++t)
-      local.probeBorderPass(l, t);
   });
   stats_ = decodeStats(rawStats_);
 }

@@ -85,6 +85,11 @@ glm::uvec2 borderSource(glm::uvec2 t, std::uint32_t tile) {
   return gMath.probeBorderSource(t, tile);
 }
 
+glm::uvec2 borderCopyCandidate(glm::uvec2 t, std::uint32_t tile, std::uint32_t k) {
+  assert(t.x < tile && t.y < tile && k < 8);
+  return gMath.probeBorderCopyCandidate(t, tile, k);
+}
+
 float irradianceWeight(glm::vec3 t, glm::vec3 r) { return gMath.probeIrradianceWeight(t, r); }
 float depthWeight(glm::vec3 t, glm::vec3 r, float s) { return gMath.probeDepthWeight(t, r, s); }
 glm::vec3 irradianceFromSums(glm::vec4 s) { return gMath.probeIrradianceFromSums(s); }

@@ -34,6 +34,8 @@ glm::vec3 texelDirection(glm::uvec2 texel, std::uint32_t interior);
 glm::vec2 tileCoord(glm::vec3 unitDir, std::uint32_t interior);
 // Tile texel -> the tile texel it copies (itself when interior). tile = interior + 2.
 glm::uvec2 borderSource(glm::uvec2 tileTexel, std::uint32_t tile);
+// Candidate k < 8 of the border texels that copy tile texel t (those whose borderSource is t).
+glm::uvec2 borderCopyCandidate(glm::uvec2 tileTexel, std::uint32_t tile, std::uint32_t k);
 
 // ---- Blending
 float irradianceWeight(glm::vec3 texelDir, glm::vec3 rayDir);              // max(0, cos)

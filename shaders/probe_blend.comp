@@ -1,7 +1,6 @@
 #version 450
-// Probe field, blend: a workgroup of 64 per listed probe, for its 232 interior texels (the
-// border copies are probe_border.comp, a shader of their own: with this one's shared memory and
-// barriers they paid for both; lavapipe ran them at two thirds of the blend's time).
+// Probe field, blend: a workgroup of 64 per listed probe, for its 260 interior texels, each
+// written with its border copies (probeBlendFinish; no pass of their own, no barrier).
 //
 // Interior: every texel sums over all the probe's rays (128 by default), so a thread per texel
 // reading the rays from the ray buffer loaded 232 x 128 x 32 bytes per probe through L1. The

@@ -100,6 +100,19 @@ uvec2 probeBorderSource(uvec2 t, uint tile) {
   return t;
 }
 
+// Candidate k (0..7) of the border texels that may copy tile texel t: its mirrors on the four
+// edges, then the four corners. It copies t iff probeBorderSource(candidate, tile) == t (an
+// interior edge texel has one such copy, an interior corner three), so a pass that writes t can
+// write its copies too.
+uvec2 probeBorderCopyCandidate(uvec2 t, uint tile, uint k) {
+  uint last = tile - 1u;
+  if (k == 0u) return uvec2(last - t.x, 0u);
+  if (k == 1u) return uvec2(last - t.x, last);
+  if (k == 2u) return uvec2(0u, last - t.y);
+  if (k == 3u) return uvec2(last, last - t.y);
+  return uvec2((k & 1u) == 0u ? 0u : last, k < 6u ? 0u : last);
+}
+
 // ---- Blending (M21 Sec. 2.3 Eq. 1 and Sec. 4.2; H22 Sec. 4.5 Eqs. 4.12-4.16) ------------------
 
 // Irradiance: cosine weight of a ray for a texel direction.

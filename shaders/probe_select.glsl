@@ -88,12 +88,11 @@ void probeWriteDispatch(uint at, uint threads) {
 }
 
 // Dispatch sizes of the list-driven passes from this frame's list length (one invocation):
-// trace (list x rays) at 0, blend (a workgroup of 64 per probe) at 3, borders (list x 320) at 6.
+// trace (list x rays) at 0, blend (a workgroup of 64 per probe) at 3.
 void probeWriteListDispatches(ProbeFrame f, uint raysPerProbe) {
   uint listed = min(PROBE_STAT(kProbeStatListCount), f.selection.y);
   probeWriteDispatch(0u, listed * raysPerProbe);
   probeWriteDispatch(3u, listed * kProbeBlendThreadsPerProbe);
-  probeWriteDispatch(6u, listed * kProbeTileTexelsPerProbe);
 }
 
 // Select pass body (mode kProbeSelectModeCount or kProbeSelectModeEmit), one invocation per probe.

@@ -142,7 +142,6 @@ SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the lis
 SDF_CONST uint kProbeBounceModeCells = 0u;    // probe_bounce.comp: look up the listed cells
 SDF_CONST uint kProbeBounceModeRays = 1u;     // probe_bounce.comp: add the waiting rays' terms
 SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
-SDF_CONST uint kProbeTileTexelsPerProbe = 356u;   // 10² irradiance + 16² depth tile texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
 // The depth blend's ray lists (probe_update.glsl, "Depth texels' ray lists"): every probe of a
 // frame casts the same pattern, so a depth texel's power-cosine weights are frame constants. Per
@@ -219,10 +218,6 @@ static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==
                       sdfstream::gpu_shared::kProbeIrradianceInterior +
                   sdfstream::gpu_shared::kProbeDepthInterior *
                       sdfstream::gpu_shared::kProbeDepthInterior);
-static_assert(sdfstream::gpu_shared::kProbeTileTexelsPerProbe ==
-              sdfstream::gpu_shared::kProbeIrradianceTexels *
-                      sdfstream::gpu_shared::kProbeIrradianceTexels +
-                  sdfstream::gpu_shared::kProbeDepthTexels * sdfstream::gpu_shared::kProbeDepthTexels);
 static_assert(sdfstream::gpu_shared::kProbeIrradianceInterior +
                   2 * sdfstream::gpu_shared::kProbeBorderTexels ==
               sdfstream::gpu_shared::kProbeIrradianceTexels);

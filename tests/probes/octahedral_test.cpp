@@ -1,6 +1,7 @@
 // Octahedral mapping and border copy of the probe tiles (shaders/probe_math.glsl via
 // gi/probe_math.h): round trips, texel centres, the seam symmetry the border rule relies on, a
 // hand-worked 8x8 border, and bilinear continuity across the seams.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -127,6 +128,37 @@ TEST(ProbeBorders, HandWorkedEightByEight) {
       const float want = static_cast<float>((s.y - 1) * kInterior + (s.x - 1));
       EXPECT_EQ(tile[y * kTile + x].x, want) << x << "," << y;
     }
+  }
+}
+
+// The blend writes each interior texel's border copies itself: the candidates that copy it must
+// be exactly the border texels whose source it is, so that every border texel is written once.
+TEST(ProbeBorders, EveryBorderTexelIsWrittenOnceByItsSource) {
+  for (std::uint32_t tile :
+       {8u, gpu_shared::kProbeIrradianceTexels, gpu_shared::kProbeDepthTexels}) {
+    std::vector<int> writes(tile * tile, 0);
+    for (std::uint32_t y = 1; y + 1 < tile; ++y)
+      for (std::uint32_t x = 1; x + 1 < tile; ++x) {
+        std::vector<glm::uvec2> copies;
+        for (std::uint32_t k = 0; k < 8; ++k) {
+          const glm::uvec2 c = borderCopyCandidate({x, y}, tile, k);
+          ASSERT_TRUE(c.x < tile && c.y < tile);
+          if (borderSource(c, tile) != glm::uvec2(x, y)) continue;
+          ASSERT_TRUE(c.x == 0 || c.y == 0 || c.x == tile - 1 || c.y == tile - 1);
+          if (std::find(copies.begin(), copies.end(), c) == copies.end()) copies.push_back(c);
+        }
+        for (const glm::uvec2& c : copies) ++writes[c.y * tile + c.x];
+        const bool edgeX = x == 1 || x == tile - 2, edgeY = y == 1 || y == tile - 2;
+        EXPECT_EQ(copies.size(), std::size_t(edgeX && edgeY   ? 3
+                                             : edgeX || edgeY ? 1
+                                                              : 0))
+            << "tile " << tile << " texel " << x << "," << y;
+      }
+    for (std::uint32_t y = 0; y < tile; ++y)
+      for (std::uint32_t x = 0; x < tile; ++x) {
+        const bool border = x == 0 || y == 0 || x == tile - 1 || y == tile - 1;
+        EXPECT_EQ(writes[y * tile + x], border ? 1 : 0) << "tile " << tile << " " << x << "," << y;
+      }
   }
 }
 

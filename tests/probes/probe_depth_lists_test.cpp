@@ -77,7 +77,9 @@ TEST(ProbeDepthLists, ListedRaysGiveTheDenseBlendsMoments) {
         double wd = 0.0, w = 0.0;
         for (std::size_t e = 0; e < list.size(); ++e) {
           ASSERT_LT(list[e].ray, rays);
-          if (e > 0) ASSERT_LT(list[e - 1].ray, list[e].ray);  // ray order, as the dense sums
+          if (e > 0) {
+            ASSERT_LT(list[e - 1].ray, list[e].ray);  // ray order, as the dense sums
+          }
           EXPECT_EQ(list[e].weight,
                     depthWeight(texelDir, dirs[list[e].ray], gpu_shared::kProbeDepthSharpness));
           wd += double(list[e].weight) * depth[list[e].ray];

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "gi/probe_math.h"
 #include "tests/probes/gi_harness.h"
 #include "tests/probes/probe_field_checks.h"
 #include "tests/support/analytic_stack.h"
@@ -49,6 +50,20 @@ void warmBunnyField(test::GiHarness& h, const test::StreamedBunny& b,
   }
 }
 
+// Border texels (of every probe's tile) whose value differs from their source's.
+template <typename T>
+std::uint32_t bordersUnlikeTheirSource(const std::vector<T>& atlas, std::uint32_t tile) {
+  std::uint32_t unlike = 0;
+  for (std::size_t p = 0; p + std::size_t(tile) * tile <= atlas.size();
+       p += std::size_t(tile) * tile)
+    for (std::uint32_t y = 0; y < tile; ++y)
+      for (std::uint32_t x = 0; x < tile; ++x) {
+        const glm::uvec2 src = borderSource({x, y}, tile);
+        if (atlas[p + y * tile + x] != atlas[p + src.y * tile + src.x]) ++unlike;
+      }
+  return unlike;
+}
+
 TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   test::StreamedBunny b = test::streamBunny();
   const CascadeStackImage img = b.stack->stackImage();
@@ -80,6 +95,10 @@ TEST_F(ProbeFieldTest, GpuMatchesCpuOnStreamedBunny) {
   EXPECT_LE(depth, 1e-1f);
   EXPECT_LE(data, 1e-5f);
   EXPECT_GE(double(depthTexelsWithin(cpu.depth(), gDepth)), 0.99 * double(gDepth.size()));
+  // The blend writes the tiles' borders with their interior texels: on the GPU too, every border
+  // texel holds exactly its source's value.
+  EXPECT_EQ(bordersUnlikeTheirSource(gIrr, gpu_shared::kProbeIrradianceTexels), 0u);
+  EXPECT_EQ(bordersUnlikeTheirSource(gDepth, gpu_shared::kProbeDepthTexels), 0u);
   EXPECT_EQ(cs.probesUpdated, gs.probesUpdated);
   EXPECT_EQ(cs.raysTraced, gs.raysTraced);
   EXPECT_EQ(cs.raysCached, gs.raysCached);
