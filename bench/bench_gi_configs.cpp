@@ -47,6 +47,21 @@ std::vector<GiConfig> rayBudgetConfigs(int cascades, bool converge) {
   return out;
 }
 
+// The default with its bounce cells serving half and twice as many updates (probe_trace.glsl,
+// "Bounce cells"): lookups saved against how stale a hit's multi-bounce term may grow.
+std::vector<GiConfig> bounceCellConfigs(int cascades, bool converge) {
+  std::vector<GiConfig> out;
+  const std::uint32_t def = ProbeFieldSettings{}.bounceCellUpdates;
+  for (std::uint32_t updates : {def / 2, def * 2}) {
+    ProbeFieldSettings s;
+    s.bounceCellUpdates = updates;
+    out.push_back({"bounce-cells-" + std::to_string(updates), "ours",
+                   "a bounce cell serves " + std::to_string(updates) + " updates", s, cascades,
+                   converge, "default"});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
@@ -147,8 +162,10 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
       for (GiConfig& c : out)
         if (c.name.starts_with(prefix) && c.name != "spacing-2") c.base = "spacing-2";
   }
-  if (!quick)
+  if (!quick) {
     for (GiConfig& c : rayBudgetConfigs(cascades, true)) out.push_back(std::move(c));
+    for (GiConfig& c : bounceCellConfigs(cascades, true)) out.push_back(std::move(c));
+  }
   if (!quick) {
     ProbeFieldSettings s = def;
     s.spacingBricks = 2;
@@ -183,6 +200,7 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
+  for (GiConfig& c : bounceCellConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   return out;
 }
 

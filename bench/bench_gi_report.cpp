@@ -398,7 +398,8 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
     };
     const double select =
         pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args");
-    const double bounce = pass("probe_bounce_cells") + pass("probe_bounce_rays");
+    const double bounce =
+        pass("probe_bounce_cells") + pass("probe_bounce_rays") + pass("probe_bounce_own");
     // Fresh rays per second of the trace pass: its throughput when (nearly) every ray is traced
     // afresh (plain DDGI); with the hit cache it mostly measures shading, not traversal.
     const double freshRate =

@@ -186,10 +186,10 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
     if (opt.verbose)
       std::printf(
           "      frame %llu: %u probes, %u rays traced, %u cached, %llu steps, %u bounce cells "
-          "looked up, %u rays waited for one or looked up their own\n",
+          "looked up, %u rays waited for one or looked up their own (%u their own)\n",
           (unsigned long long)frame_ - 1, s.probes.probesUpdated, s.probes.raysTraced,
           s.probes.raysCached, (unsigned long long)s.probes.steps, s.probes.bounceCells,
-          s.probes.bounceRays);
+          s.probes.bounceRays, s.probes.bounceOwn);
     update.push_back(total);
     probesUpdated.push_back(s.probes.probesUpdated);
     raysTraced.push_back(s.probes.raysTraced);

@@ -192,14 +192,17 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   // Sized on the GPU by the list's length: sleeping and off probes launch no thread at all.
   batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
   if (lastFrame_.constants.bounce.y > 0) {
-    // Sized like the trace: each listed ray adds at most one cell and itself.
-    ProbePushConstants cells = trace, waiting = trace;
+    // Sized like the trace: each listed ray adds at most one cell and itself, and then itself
+    // once more where its cell disagrees.
+    ProbePushConstants cells = trace, waiting = trace, own = trace;
     cells.dispatch.x = gpu_shared::kProbeBounceModeCells;
     waiting.dispatch.x = gpu_shared::kProbeBounceModeRays;
+    own.dispatch.x = gpu_shared::kProbeBounceModeOwn;
     batch.dispatchIndirect("probe_bounce_cells", bounce_, b, &cells, sizeof cells, dispatchArgs_,
                            0);
     batch.dispatchIndirect("probe_bounce_rays", bounce_, b, &waiting, sizeof waiting, dispatchArgs_,
                            0);
+    batch.dispatchIndirect("probe_bounce_own", bounce_, b, &own, sizeof own, dispatchArgs_, 0);
   }
   batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
   batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);

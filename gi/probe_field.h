@@ -72,8 +72,8 @@ class ProbeField {
   const ProbeFieldStats& lastStats() const { return stats_; }
   // GPU time per pass of the last update() or sample(): probe_classify, probe_cache_check (frames
   // whose windows scrolled or pages changed), probe_select_count,
-  // probe_select_emit, probe_select_args, probe_trace, probe_bounce_cells and probe_bounce_rays
-  // (with bounce cells), probe_blend / probe_sample.
+  // probe_select_emit, probe_select_args, probe_trace, probe_bounce_cells, probe_bounce_rays and
+  // probe_bounce_own (with bounce cells), probe_blend / probe_sample.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds() const;
   // Every buffer's bytes, the bounce cells as large as the atlas they last grew to.

@@ -129,6 +129,7 @@ ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw) {
   s.objectSteps = raw[kProbeStatObjectSteps];
   s.bounceCells = raw[kProbeStatBounceCells];
   s.bounceRays = raw[kProbeStatBounceRays];
+  s.bounceOwn = raw[kProbeStatBounceOwn];
   return s;
 }
 
@@ -209,7 +210,8 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
     for (std::size_t i = r.begin(); i < r.end(); ++i)
       local.probeTracePass(f, std::uint32_t(i / n), std::uint32_t(i % n));
   });
-  // Bounce cells, then the rays that waited for them (probe_bounce.comp, two dispatches).
+  // Bounce cells, then the rays that waited for them, then those that look up their own
+  // (probe_bounce.comp, three dispatches).
   if (f.bounce.y > 0) {
     const std::uint32_t cells = rawStats_[gpu_shared::kProbeStatBounceCells];
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, cells, 64), [&](auto r) {
@@ -220,6 +222,11 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, waiting, 64), [&](auto r) {
       auto local = base;
       for (std::uint32_t i = r.begin(); i < r.end(); ++i) local.probeBounceRayPass(f, i);
+    });
+    const std::uint32_t own = rawStats_[gpu_shared::kProbeStatBounceOwn];
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, own, 64), [&](auto r) {
+      auto local = base;
+      for (std::uint32_t i = r.begin(); i < r.end(); ++i) local.probeBounceOwnPass(f, i);
     });
   }
   // Blend: interior texels and their border copies (probe_blend.comp).

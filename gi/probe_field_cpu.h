@@ -47,6 +47,7 @@ struct ProbeFieldStats {
   std::uint32_t objectSteps = 0;  // object sphere-tracing steps
   std::uint32_t bounceCells = 0;  // bounce cells looked up afresh (probe_trace.glsl)
   std::uint32_t bounceRays = 0;   // rays that waited for a bounce cell or looked up their own
+  std::uint32_t bounceOwn = 0;    // ... of them, those that looked up their own
 };
 ProbeFieldStats decodeStats(std::span<const std::uint32_t> raw);
 

@@ -213,26 +213,36 @@ void probeBounceCellPass(ProbeFrame f, uint i) {
   LIGHT_BOUNCE_WORD(m) = word;
 }
 
-// probe_bounce.comp, rays: the listed ray r's multi-bounce term, from its cell where the cell
-// agrees, else looked up at its own hit as probeShadeRay does.
+// probe_bounce.comp, rays: the listed ray r's multi-bounce term from its cell where the cell
+// agrees. A ray whose cell disagrees (or has no surface point) is listed once more, for
+// probeBounceOwnPass: its own lookup weighs 8-16 probes, and run here it kept the whole subgroup
+// of cheap additions waiting on it.
 void probeBounceRayPass(ProbeFrame f, uint r) {
   uvec4 w = PROBE_BOUNCE_WORK(f.bounce.z + r);
-  uint rayIndex = w.x;
   uint m = w.y;
-  uvec2 hit = uvec2(w.z, w.w);
-  vec3 n = probeCacheNormal(hit);
   uint word = LIGHT_BOUNCE_WORD(m);
-  vec3 e;
-  if (probeBounceAgrees(word, n)) {
-    e = unpackRgb9e5(LIGHT_BOUNCE_E(m));
-  } else {
-    uint rays = PROBE_VOLUME(0u).countsRays.w;  // every volume has the same rays per probe
-    vec3 o = probePosition(f, PROBE_LIST(rayIndex / rays));
-    vec3 dir = vec3(PROBE_RAY_DIR(rayIndex));
-    e = probeFieldIrradiance(f, o + dir * uintBitsToFloat(hit.x), n, -dir, false, -1);
+  if (!probeBounceAgrees(word, probeCacheNormal(uvec2(w.z, w.w)))) {
+    // The cells' list is used up (probe_bounce.comp ran it before): its slots take these.
+    PROBE_BOUNCE_WORK(PROBE_APPEND(kProbeStatBounceOwn)) = w;
+    return;
   }
+  vec4 ray = PROBE_RAY_STORED(w.x);
+  PROBE_RAY_STORED(w.x) =
+      vec4(vec3(ray) + probeBounceTerm(f, m, unpackRgb9e5(LIGHT_BOUNCE_E(m))), ray.w);
+}
+
+// probe_bounce.comp, own lookups: listed ray i's E looked up at its own hit, as probeShadeRay does.
+void probeBounceOwnPass(ProbeFrame f, uint i) {
+  uvec4 w = PROBE_BOUNCE_WORK(i);
+  uint rayIndex = w.x;
+  uvec2 hit = uvec2(w.z, w.w);
+  uint perProbe = PROBE_VOLUME(0u).countsRays.w;  // every volume has the same rays per probe
+  vec3 o = probePosition(f, PROBE_LIST(rayIndex / perProbe));
+  vec3 dir = vec3(PROBE_RAY_DIR(rayIndex));
+  vec3 e = probeFieldIrradiance(f, o + dir * uintBitsToFloat(hit.x), probeCacheNormal(hit), -dir,
+                                false, -1);
   vec4 ray = PROBE_RAY_STORED(rayIndex);
-  PROBE_RAY_STORED(rayIndex) = vec4(vec3(ray) + probeBounceTerm(f, m, e), ray.w);
+  PROBE_RAY_STORED(rayIndex) = vec4(vec3(ray) + probeBounceTerm(f, w.y, e), ray.w);
 }
 
 #ifdef OBJ_FRAME

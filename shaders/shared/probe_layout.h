@@ -141,6 +141,7 @@ SDF_CONST uint kProbeSelectModeEmit = 1u;     // probe_select.comp: append probe
 SDF_CONST uint kProbeSelectModeArgs = 2u;     // probe_select.comp: size the list-driven passes
 SDF_CONST uint kProbeBounceModeCells = 0u;    // probe_bounce.comp: look up the listed cells
 SDF_CONST uint kProbeBounceModeRays = 1u;     // probe_bounce.comp: add the waiting rays' terms
+SDF_CONST uint kProbeBounceModeOwn = 2u;      // probe_bounce.comp: the rays' own lookups
 SDF_CONST uint kProbeBlendTexelsPerProbe = 260u;  // 8² irradiance + 14² depth interior texels
 SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one workgroup per probe
 // The depth blend's ray lists (probe_update.glsl, "Depth texels' ray lists"): every probe of a
@@ -176,7 +177,8 @@ SDF_CONST uint kProbeStatObjectHits = 14u;   // ... and hit one before the stati
 SDF_CONST uint kProbeStatObjectSteps = 15u;  // object sphere-tracing steps
 SDF_CONST uint kProbeStatBounceCells = 16u;  // bounce cells looked up afresh this update
 SDF_CONST uint kProbeStatBounceRays = 17u;   // rays that waited for a bounce cell, or had none
-SDF_CONST uint kProbeStatCount = 18u;
+SDF_CONST uint kProbeStatBounceOwn = 18u;    // ... of them, those that look up their own
+SDF_CONST uint kProbeStatCount = 19u;
 
 // A bounce cell (probe_trace.glsl, "Bounce cells"): per static material voxel, the probe field's
 // irradiance at its surface point, uvec2(RGB9E5 irradiance, word). The word: valid, pending (a

@@ -150,13 +150,15 @@ TEST_F(ProbeBounceCellsTest, GpuMatchesCpuWhileCellsServeSeveralUpdates) {
   s.lightSwitchVigilantUpdates = 2;
   test::GiHarness h(ctx(), s, 3);
   ProbeFrameInputs in = test::lightBunnyScene(h, img, b.camera);
-  std::uint32_t cellsLookedUp[2] = {0, 0};
+  std::uint32_t cellsLookedUp[2] = {0, 0}, ownLookups[2] = {0, 0};
   for (std::uint64_t frame = 0; frame < 12; ++frame) {
     in.lightsChanged = frame == 0;
     h.step(img, in, frame);
     if (frame >= 2) {
       cellsLookedUp[0] += h.cpuField->lastStats().bounceCells;
       cellsLookedUp[1] += h.gpuField->lastStats().bounceCells;
+      ownLookups[0] += h.cpuField->lastStats().bounceOwn;
+      ownLookups[1] += h.gpuField->lastStats().bounceOwn;
     }
   }
   const float irr = test::worstRelative<glm::vec4, 4>(h.cpuField->irradiance(),
@@ -164,12 +166,15 @@ TEST_F(ProbeBounceCellsTest, GpuMatchesCpuWhileCellsServeSeveralUpdates) {
   std::printf(
       "[figures] bounce cells GPU vs CPU (bunny, 12 frames, cells serve several updates from frame "
       "2): "
-      "max rel diff irradiance %.2e; cells looked up in frames 2-11 %u (CPU) / %u (GPU)\n",
-      irr, cellsLookedUp[0], cellsLookedUp[1]);
+      "max rel diff irradiance %.2e; cells looked up in frames 2-11 %u (CPU) / %u (GPU), rays "
+      "that looked up their own %u / %u\n",
+      irr, cellsLookedUp[0], cellsLookedUp[1], ownLookups[0], ownLookups[1]);
   EXPECT_LE(irr, 2e-2f);
   EXPECT_GT(cellsLookedUp[0], 0u);
   // The same cells go stale on both sides; a grazing ray may hit on one side only.
   EXPECT_NEAR(double(cellsLookedUp[1]), double(cellsLookedUp[0]), 0.01 * double(cellsLookedUp[0]));
+  EXPECT_GT(ownLookups[0], 0u);
+  EXPECT_NEAR(double(ownLookups[1]), double(ownLookups[0]), 0.01 * double(ownLookups[0]));
 }
 
 }  // namespace
