@@ -78,13 +78,14 @@ struct ProbeFieldSettings {
   float bounceGain = 1.0f;       // multi-bounce feedback (issue 5 item 5)
   // Updates a bounce cell's lookup of the probes serves the hits in its material voxel
   // (probe_trace.glsl, "Bounce cells"): a hit reads the cell's irradiance instead of weighing 8
-  // probes (16 in a cascade blend) itself. Twice the hit cache's 4 rotations: a cell that only
-  // one rotation's rays hit is hit every 4th update, and with 4 it was looked up at every hit
-  // (Sponza on the H100: probe update 1.00 ms at 4, 0.93 at 8). 1: each cell is looked up
+  // probes (16 in a cascade blend) itself. Four times the hit cache's 4 rotations: a cell that
+  // only one rotation's rays hit is hit every 4th update, and with 4 it was looked up at every
+  // hit (Sponza on the H100, steady probe update: 0.765 ms at 4, 0.682 at 8, 0.648 at 16, with
+  // the full-mode accuracy of 8 to the third digit in five scenes). 1: each cell is looked up
   // afresh every update (once for all its hits), which the field's young updates and a light
-  // switch's vigilance use, since their bounces build up one per update. 0: every hit looks the
-  // probes up itself.
-  std::uint32_t bounceCellUpdates = 8;
+  // switch's vigilance use, since their bounces build up one per update; while the lights drift
+  // a cell serves half as many. 0: every hit looks the probes up itself.
+  std::uint32_t bounceCellUpdates = 16;
   std::uint32_t maxSteps = 256;  // sphere-tracing iterations per ray, all cascades together
   float hitEpsilon = 0.02f;      // voxels of the cascade being traced
   float traceDistance = 1e30f;   // probe ray tMax, cascade-0 voxels

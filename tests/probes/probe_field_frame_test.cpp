@@ -67,5 +67,29 @@ TEST(ProbeFieldFrame, TheCatchUpTakesItsOwnHysteresisAndTheVigilanceCounts) {
   EXPECT_EQ((plain.build(image, in, 0).constants.selection.w >> 16) & 255u, 32u);
 }
 
+// How many updates a bounce cell serves (ProbeFrame::bounce.y): one while the field builds up
+// its bounces (its first vigilant frames, a light switch's vigilance), half the setting while the
+// lights drift, the whole setting when they hold still.
+TEST(ProbeFieldFrame, BounceCellsServeLongestWhileTheLightsHoldStill) {
+  ProbeFieldSettings s;
+  s.vigilantFrames = 2;
+  s.bounceCellUpdates = 16;
+  ProbeFieldFrameBuilder builder(s);
+  const CascadeStackImage image = oneCascade();
+  ProbeFrameInputs in;
+  EXPECT_EQ(builder.build(image, in, 0).constants.bounce.y, 1u);
+  EXPECT_EQ(builder.build(image, in, 1).constants.bounce.y, 1u);
+  EXPECT_EQ(builder.build(image, in, 2).constants.bounce.y, 16u);
+  in.lightsDrifting = true;
+  EXPECT_EQ(builder.build(image, in, 3).constants.bounce.y, 8u);
+  in.lightsDrifting = false;
+  in.lightsChanged = true;
+  in.lightSwitchVigilantUpdates = 2;
+  EXPECT_EQ(builder.build(image, in, 4).constants.bounce.y, 1u);
+  in.lightsChanged = false;
+  EXPECT_EQ(builder.build(image, in, 5).constants.bounce.y, 1u);
+  EXPECT_EQ(builder.build(image, in, 6).constants.bounce.y, 16u);
+}
+
 }  // namespace
 }  // namespace sdfstream::probe
