@@ -161,7 +161,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   // most that long (ProbeLightDriftTest.GpuMatchesCpuThroughDriftingFrames: 9.8e-3 at 8 updates,
   // 4.5e-2 at 16).
   const std::uint32_t serves =
-      drifting ? std::max(1u, s.bounceCellUpdates / 2) : s.bounceCellUpdates;
+      drifting && s.bounceCellUpdates > 1 ? s.bounceCellUpdates / 2 : s.bounceCellUpdates;
   // z: where the bounce passes' list of waiting rays starts, after room for one cell per ray
   // (ProbeFieldSizes::bounceWork).
   f.bounce = glm::uvec4(updates_, building ? std::min(serves, 1u) : serves,

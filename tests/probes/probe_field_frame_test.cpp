@@ -89,6 +89,12 @@ TEST(ProbeFieldFrame, BounceCellsServeLongestWhileTheLightsHoldStill) {
   in.lightsChanged = false;
   EXPECT_EQ(builder.build(image, in, 5).constants.bounce.y, 1u);
   EXPECT_EQ(builder.build(image, in, 6).constants.bounce.y, 16u);
+  // Off stays off (no cells are allocated): every hit looks the probes up itself, drifting too.
+  s.bounceCellUpdates = 0;
+  ProbeFieldFrameBuilder perHit(s);
+  in.lightsDrifting = true;
+  for (std::uint64_t frame = 0; frame < 4; ++frame)
+    EXPECT_EQ(perHit.build(image, in, frame).constants.bounce.y, 0u) << "frame " << frame;
 }
 
 }  // namespace
