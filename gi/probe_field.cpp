@@ -55,7 +55,7 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       pageChanged_(deviceBuffer(context, std::size_t(cascades) * 128 * 4)),
       queries_(context, gpu::StagedBuffer::ToDevice),
       results_(context, gpu::StagedBuffer::ToHost),
-      dispatchArgs_(deviceBuffer(context, 9 * 4)),
+      dispatchArgs_(deviceBuffer(context, 6 * 4)),
       rayDirs_(deviceBuffer(context, sizes_.rays * 16)),
       bounceCells_(deviceBuffer(context, 8)),
       bounceWork_(deviceBuffer(context, sizes_.bounceWork * 16)),

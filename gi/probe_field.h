@@ -112,7 +112,9 @@ class ProbeField {
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;
   gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)
-  gpu::Buffer dispatchArgs_;             // group counts of trace / blend (probe_select args mode)
+  // Group counts of the trace / bounce passes (x, y, z at 0) and the blend (at 3), written by
+  // probe_select's args mode.
+  gpu::Buffer dispatchArgs_;
   gpu::Buffer rayDirs_;       // this frame's ray directions, for the blend
   gpu::Buffer bounceCells_;   // uvec2 per atlas material voxel (probe_trace.glsl, bounce cells)
   gpu::Buffer bounceWork_;    // the bounce passes' lists (ProbeFieldSizes::bounceWork)

@@ -1,7 +1,8 @@
 // Probe field, blend pass (probe_blend.comp; shaders/probe_field.glsl lists the pass files): the
 // listed probes' rays into their interior texels (shaders/probe_update.glsl), each written with
-// its border copies. Reads and writes PROBE_LIST(l), PROBE_VOLUME(c), PROBE_DATA(g), PROBE_HISTORY(g),
-// PROBE_RAY(i), PROBE_IRRADIANCE(i), PROBE_DEPTH(i) (as listed by the classify and trace files).
+// its border copies. Reads and writes PROBE_LIST(l), PROBE_VOLUME(c), PROBE_DATA(g),
+// PROBE_HISTORY(g), PROBE_RAY(i), PROBE_IRRADIANCE(i), PROBE_DEPTH(i) (as listed by the classify
+// and trace files).
 
 // One interior texel of a listed probe's blend: which atlas texel, its hysteresis and the
 // per-probe options (probeBlendTexelOf). The sums are accumulated in ray order by

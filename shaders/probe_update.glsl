@@ -116,8 +116,9 @@ vec3 probeDepthTexelSums(uint rayBase, uint n, uvec2 texel, float sharpness, vec
 // Depth texels' ray lists: the same sums as probeDepthTexelSums over the rays its list (block
 // `list` of PROBE_RAY_PATTERN, probe_layout.h kProbeDepthList*) names, `listed` of them, with the
 // weights it holds, for the probe's rays [first, first + count) (PROBE_RAY indices; its rays start
-// at rayBase). The rays left out weigh < kProbeDepthListFloor each, and every probe of the frame
-// shares the pattern, so a texel reads ~11 rays and no pow instead of 128 and 128.
+// at rayBase). The rays left out weigh < kProbeDepthListFloor of the texel's nearest ray each,
+// and every probe of the frame shares the pattern, so a texel reads ~13 rays and no pow instead
+// of 128 and 128.
 vec3 probeDepthTexelSumsListed(uint rayBase, uint first, uint count, uint list, uint listed,
                                vec3 sums) {
   for (uint e = 0u; e < listed; ++e) {
