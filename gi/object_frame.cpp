@@ -227,14 +227,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
             glm::ivec3 lo, hi;
             if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
               continue;
-            // Entries: one per region octant the AABB touches (half-region cells across the
-            // cascade, widened by a hair for the entries' outward-rounded boxes).
-            const glm::vec4 ro = f.regionOrigin[c];
-            const glm::vec3 a = (glm::vec3(g.boundsMin) - glm::vec3(ro)) * (2.0f / ro.w);
-            const glm::vec3 b = (glm::vec3(g.boundsMax) - glm::vec3(ro)) * (2.0f / ro.w);
-            const glm::ivec3 halfLo = glm::max(glm::ivec3(glm::floor(a - 1e-3f)), 2 * lo);
-            const glm::ivec3 halfHi = glm::min(glm::ivec3(glm::floor(b + 1e-3f)), 2 * hi + 1);
-            const glm::ivec3 ext = glm::max(halfHi - halfLo + 1, glm::ivec3(1));
+            const glm::ivec3 ext = hi - lo + 1;
             t.capacity += std::uint64_t(ext.x) * ext.y * ext.z;
             t.cascadeMask |= 1u << c;
           }

@@ -71,9 +71,9 @@ ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library);
 struct ObjectFrameData {
   gpu_shared::ObjectFrameGpu frame{};
   std::vector<gpu_shared::ObjectInstanceGpu> instances;  // dense, InstanceSet order
-  std::vector<gpu_shared::ObjectRegionGpu> regions;      // lists and occupancy 0;
+  std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor/occupancy 0;
                                                          // wake and moved from changedBoxes
-  std::uint32_t listCapacity = 0;  // Σ region octants of the AABBs: lists can never overflow
+  std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
   std::uint32_t movedInstances = 0;
   std::uint32_t movedRegions = 0;  // regions with a wake bit (removals included)

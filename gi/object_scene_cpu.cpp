@@ -160,18 +160,12 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
             regions_[g].occupancy[p.objOccupancyWord(y, z)] |= p.objRowMask(sub.lo.x, sub.hi.x)
                                                                << p.objOccupancyShift(y);
       }
-      // One list per octant, each instance in every octant its entry's box touches.
-      regions_[g].total = 0;
-      for (std::uint32_t k = 0; k < gs::kRegionOctants; ++k) {
-        regions_[g].start[k] = std::uint32_t(flat_.size());
-        for (std::uint32_t i : lists_[g]) {
-          const gs::ObjectInstanceGpu& inst = frame_.instances[i];
-          const glm::uvec4 entry =
-              p.objListEntry(i, glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
-          if ((p.objEntryOctants(entry) & (1u << k)) != 0u) flat_.push_back(entry);
-        }
-        regions_[g].count[k] = std::uint32_t(flat_.size()) - regions_[g].start[k];
-        regions_[g].total += regions_[g].count[k];
+      regions_[g].start = std::uint32_t(flat_.size());
+      regions_[g].count = std::uint32_t(lists_[g].size());
+      for (std::uint32_t i : lists_[g]) {
+        const gs::ObjectInstanceGpu& inst = frame_.instances[i];
+        flat_.push_back(
+            p.objListEntry(i, glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w));
       }
     }
   }

@@ -55,8 +55,8 @@ class ObjectSceneCpu {
   ObjectAtlasData atlas_;
   ObjectFrameData frame_;
   std::vector<std::vector<std::uint32_t>> lists_;
-  std::vector<gpu_shared::ObjectRegionGpu> regions_;  // octant count/start into flat_
-  std::vector<glm::uvec4> flat_;  // the lists' entries (objListEntry), octant after octant
+  std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start into flat_
+  std::vector<glm::uvec4> flat_;  // the lists' entries (objListEntry), region after region
   std::vector<gpu_shared::CardGpu> cardTable_;
   std::vector<gpu_shared::CardTexelGpu> cardTexels_;
   std::vector<std::uint32_t> cardLight_;

@@ -27,8 +27,8 @@ layout(push_constant) uniform Push { FrameComposePush pc; };
 #define OBJ_BINDING_BASE 11
 #include "shaders/object_bindings.glsl"
 
-// The objects listed in the macro region's octant holding the hit, in the finest region cascade
-// that holds it (as objTraceRegions finds it, shaders/object_trace.glsl), as a colour.
+// The objects listed in the macro region holding the hit, in the finest region cascade that
+// holds it (as objTraceRegions finds it, shaders/object_trace.glsl), as a colour.
 uint objectRegionColour(uint id, ShadedHit h) {
   if ((h.flags & kShadeFlagObject) != 0u) return 0xffe6e6e6u;
   if (OBJ_FRAME.counts.x == 0u) return 0xff404040u;  // no objects: no region lists any
@@ -39,9 +39,7 @@ uint objectRegionColour(uint id, ShadedHit h) {
     vec3 q = (x - ro.xyz) / ro.w;
     if (any(lessThan(q, vec3(0.0))) || any(greaterThan(q, vec3(8.0)))) continue;
     ivec3 cell = clamp(ivec3(floor(q)), ivec3(0), ivec3(7));
-    uvec3 oct = uvec3(clamp(ivec3(floor(q * 2.0)) - 2 * cell, ivec3(0), ivec3(1)));
-    uint count = OBJ_REGION(c * 512u + uint(cell.x) + 8u * (uint(cell.y) + 8u * uint(cell.z)))
-                     .count[oct.x + 2u * oct.y + 4u * oct.z];
+    uint count = OBJ_REGION(c * 512u + uint(cell.x) + 8u * (uint(cell.y) + 8u * uint(cell.z))).count;
     return count == 0u ? 0xff404040u : count == 1u ? 0xff3cdce6u : count < 4u ? 0xff28a0f0u
                                                                               : 0xff3c3ce6u;
   }

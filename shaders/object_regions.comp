@@ -3,18 +3,16 @@
 // SDFGI slides b, "Storing the object list per region": a compute pass per object over the
 // regions it may touch, culling each region against the object's oriented box, atomics to mark
 // presence). Compact lists instead of the slides' bitfields, so a ray pays for the objects in a
-// region, not for N/32 words of it (docs/DECISIONS.md), one list per octant of the region, so a
-// ray pays only for the octants it crosses occupied. Three phases, one dispatch each:
+// region, not for N/32 words of it (docs/DECISIONS.md). Three phases, one dispatch each:
 //   0 count: workgroup (instance, cascade); its 64 threads stride over the regions of the
-//            instance's AABB range and atomically count, in each octant its list entry's box
-//            touches (objEntryOctants), those its OBB overlaps, and OR the sub-cells its AABB
-//            touches into the region's occupancy bitfield (the wake bits, which need the
-//            instances' old poses too, come from the host);
+//            instance's AABB range and atomically count those its OBB overlaps and OR the
+//            sub-cells its AABB touches into the region's occupancy bitfield (the wake bits,
+//            which need the instances' old poses too, come from the host);
 //   1 scan:  one workgroup turns counts into list starts (exclusive prefix sum), clamped to the
 //            list capacity the host sized from the same AABB ranges;
 //   2 fill:  as 0, appending the instance's entry (index and quantised AABB, objListEntry) at
-//            start + atomicAdd(cursor) of each of those octants.
-// Cost: instances × regions of their AABBs, plus one scan of cascades × 512 × 8 counts.
+//            start + atomicAdd(cursor).
+// Cost: instances × regions of their AABBs, plus one scan of cascades × 512 counts.
 #extension GL_GOOGLE_include_directive : require
 
 #define SDF_PRECISE precise
@@ -36,8 +34,7 @@ void scanRegions() {
   uint begin = min(lid * chunk, total);
   uint end = min(begin + chunk, total);
   uint sum = 0u;
-  for (uint r = begin; r < end; ++r)
-    for (uint k = 0u; k < kRegionOctants; ++k) sum += objRegions[r].count[k];
+  for (uint r = begin; r < end; ++r) sum += objRegions[r].count;
   partial[lid] = sum;
   barrier();
   if (lid == 0u) {
@@ -51,18 +48,12 @@ void scanRegions() {
   barrier();
   uint start = partial[lid];
   for (uint r = begin; r < end; ++r) {
-    uint listed = 0u;
-    for (uint k = 0u; k < kRegionOctants; ++k) {
-      uint n = objRegions[r].count[k];
-      uint s = min(start, pc.capacity);
-      uint kept = min(n, pc.capacity - s);  // never past the list (host sizes it so)
-      objRegions[r].start[k] = s;
-      objRegions[r].count[k] = kept;
-      objRegions[r].cursor[k] = 0u;
-      listed += kept;
-      start += n;
-    }
-    objRegions[r].total = listed;
+    uint n = objRegions[r].count;
+    uint s = min(start, pc.capacity);
+    objRegions[r].start = s;
+    objRegions[r].count = min(n, pc.capacity - s);  // never past the list (host sizes it so)
+    objRegions[r].cursor = 0u;
+    start += n;
   }
 }
 
@@ -88,26 +79,22 @@ void main() {
     vec3 lo = vec3(ro.x, ro.y, ro.z) + vec3(r) * ro.w;
     if (!objObbOverlapsBox(inst, dims, lo, lo + vec3(ro.w))) continue;
     uint region = c * kRegionsPerCascade + uint(r.x + 8 * (r.y + 8 * r.z));
-    vec3 bmin = vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z);
-    vec3 bmax = vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z);
-    uvec4 entry = objListEntry(i, bmin, bmax, lo, ro.w);
-    uint octants = objEntryOctants(entry);
     if (pc.phase == 0u) {
-      for (uint k = 0u; k < kRegionOctants; ++k)
-        if ((octants & (1u << k)) != 0u) atomicAdd(objRegions[region].count[k], 1u);
-      ObjSubRange sr = objSubCellRange(bmin, bmax, lo, ro.w);
+      atomicAdd(objRegions[region].count, 1u);
+      ObjSubRange sr =
+          objSubCellRange(vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
+                          vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);
       uint row = objRowMask(sr.lo.x, sr.hi.x);
       for (int z = sr.lo.z; z <= sr.hi.z; ++z)
         for (int y = sr.lo.y; y <= sr.hi.y; ++y)
           atomicOr(objRegions[region].occupancy[objOccupancyWord(y, z)],
                    row << objOccupancyShift(y));
     } else {
-      for (uint k = 0u; k < kRegionOctants; ++k) {
-        if ((octants & (1u << k)) == 0u) continue;
-        uint slot = atomicAdd(objRegions[region].cursor[k], 1u);
-        if (slot < objRegions[region].count[k])
-          objList[objRegions[region].start[k] + slot] = entry;
-      }
+      uint slot = atomicAdd(objRegions[region].cursor, 1u);
+      if (slot < objRegions[region].count)
+        objList[objRegions[region].start + slot] = objListEntry(
+            i, vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
+            vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);
     }
   }
 }

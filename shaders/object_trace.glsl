@@ -215,22 +215,13 @@ uint objRowMask(int lo, int hi) { return ((2u << uint(hi)) - 1u) & ~((1u << uint
 uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
 uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
 
-// What a ray's stretch inside a region crosses of its occupied sub-cells: the part of the
-// stretch from the first to the last (span, empty when x > y) and the octants they lie in.
-struct ObjOccupied {
-  vec2 span;
-  uint octants;  // bit x + 2y + 4z: octant (x, y, z) holds an occupied sub-cell the ray crosses
-};
-
 // The part of [t0, t1] (the ray's stretch inside region `region`, whose box starts at rLo) that
 // crosses occupied sub-cells: a 3D DDA over the region's 8³ sub-cells (Amanatides & Woo), at
 // most 22 steps. Empty (x > y) when every sub-cell the ray crosses is empty: no listed object
 // can be hit there, so none is tested.
-ObjOccupied objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo,
-                            float edge) {
+vec2 objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo, float edge) {
   float sub = edge / float(kSubCellsPerAxis);
   vec2 span = vec2(1e30f, -1e30f);
-  uint octants = 0u;
   float t = t0;
   vec3 p = (o + d * t - rLo) / sub;
   ivec3 cell = clamp(ivec3(floor(p)), ivec3(0), ivec3(7));
@@ -250,7 +241,6 @@ ObjOccupied objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec
     if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
       span.x = min(span.x, t);
       span.y = max(span.y, exitT);
-      octants |= 1u << (uint(cell.x >> 2) + 2u * uint(cell.y >> 2) + 4u * uint(cell.z >> 2));
     }
     if (exitT >= t1) break;
     t = exitT;
@@ -266,10 +256,8 @@ ObjOccupied objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec
     }
     if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x > 7 || cell.y > 7 || cell.z > 7) break;
   }
-  ObjOccupied r;
-  r.span = vec2(span.x, min(span.y, t1));
-  r.octants = octants;
-  return r;
+  span.y = min(span.y, t1);
+  return span;
 }
 
 // A region list entry (OBJ_LIST): x is the instance index, y..w its stack AABB within the
@@ -306,24 +294,6 @@ ObjListBox objListEntryBox(uvec4 e, vec3 rLo, float edge) {
   b.lo = rLo + lo * k - vec3(0.5f * edge);
   b.hi = rLo + hi * k - vec3(0.5f * edge);
   return b;
-}
-
-// The octants of its region (bit x + 2y + 4z) that a list entry's box touches, from the codes
-// alone (the octants meet at half a region edge, code 32767.5), so the region build, which lists
-// the entry in each of them, and the walk, which tests it once, agree exactly. The box holds the
-// instance's AABB, so every occupied sub-cell it accounts for lies in one of its octants.
-uint objEntryOctants(uvec4 e) {
-  uint lx = (e.y & 0xffffu) >= 32768u ? 1u : 0u;
-  uint ly = (e.y >> 16u) >= 32768u ? 1u : 0u;
-  uint lz = (e.z & 0xffffu) >= 32768u ? 1u : 0u;
-  uint hx = (e.z >> 16u) >= 32768u ? 1u : 0u;
-  uint hy = (e.w & 0xffffu) >= 32768u ? 1u : 0u;
-  uint hz = (e.w >> 16u) >= 32768u ? 1u : 0u;
-  uint mask = 0u;
-  for (uint z = lz; z <= hz; ++z)
-    for (uint y = ly; y <= hy; ++y)
-      for (uint x = lx; x <= hx; ++x) mask |= 1u << (x + 2u * y + 4u * z);
-  return mask;
 }
 
 // Whether a region grid cascade c holds stack point p (faces included).
@@ -373,33 +343,23 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     float exitT = objBoxClip(o, inv, rLo, rLo + vec3(ro.w)).y;
     float segEnd = min(exitT, tEnd);
     uint regionIndex = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
+    uint count = OBJ_REGION(regionIndex).count;
     // Only the stretch that crosses occupied sub-cells can hold a hit (every listed instance's
-    // AABB is inside them), with a hair of slack at both ends for rounding; and only instances
-    // listed in the octants of those sub-cells, each tested in the first of its octants the ray
-    // crosses occupied.
-    ObjOccupied occ;
-    occ.span = vec2(1.0f, 0.0f);
-    occ.octants = 0u;
-    if (OBJ_REGION(regionIndex).total > 0u)
-      occ = objOccupiedSpan(regionIndex, o, d, t, segEnd, rLo, ro.w);
-    vec2 occupied = occ.span;
+    // AABB is inside them), with a hair of slack at both ends for rounding.
+    vec2 occupied =
+        count > 0u ? objOccupiedSpan(regionIndex, o, d, t, segEnd, rLo, ro.w) : vec2(1.0f, 0.0f);
     float from = max(t, occupied.x - 1e-4f * ro.w);
-    for (uint oct = 0u; oct < kRegionOctants && occupied.x <= occupied.y; ++oct) {
-      if ((occ.octants & (1u << oct)) == 0u) continue;
-      uint start = OBJ_REGION(regionIndex).start[oct];
-      uint count = OBJ_REGION(regionIndex).count[oct];
-      for (uint k = 0u; k < count; ++k) {
-        uvec4 entry = OBJ_LIST(start + k);
-        if ((objEntryOctants(entry) & occ.octants & ((1u << oct) - 1u)) != 0u) continue;
-        uint i = entry.x;
-        // A little past the stretch's end, so a surface exactly on a face is not lost.
-        float hiT = best.t >= 0.0f ? min(best.t, occupied.y + 1e-3f) : occupied.y + 1e-3f;
-        // The instance's AABB first (from the entry), before its grid maps and any SDF read.
-        ObjListBox lb = objListEntryBox(entry, rLo, ro.w);
-        vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
-        if (max(box.x, from) > min(box.y, hiT)) continue;
-        best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
-      }
+    uint start = OBJ_REGION(regionIndex).start;
+    for (uint k = 0u; k < count && occupied.x <= occupied.y; ++k) {
+      uvec4 entry = OBJ_LIST(start + k);
+      uint i = entry.x;
+      // A little past the stretch's end, so a surface exactly on a face is not lost.
+      float hiT = best.t >= 0.0f ? min(best.t, occupied.y + 1e-3f) : occupied.y + 1e-3f;
+      // The instance's AABB first (from the entry), before its grid maps and any SDF read.
+      ObjListBox lb = objListEntryBox(entry, rLo, ro.w);
+      vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
+      if (max(box.x, from) > min(box.y, hiT)) continue;
+      best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
     }
     if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;
     t = max(exitT, t + 1e-4f * ro.w);
@@ -479,19 +439,12 @@ vec2 objNearestListed(vec3 p, uint firstCascade, float minRadius) {
     if (!objInRegionGrid(c, p)) continue;
     vec4 ro = OBJ_FRAME.regionOrigin[c];
     ivec3 r = clamp(ivec3(floor((p - vec3(ro.x, ro.y, ro.z)) / ro.w)), ivec3(0), ivec3(7));
-    uint region = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
-    // Every octant's list, each instance once (in the first octant that lists it).
-    for (uint oct = 0u; oct < kRegionOctants; ++oct) {
-      uint start = OBJ_REGION(region).start[oct];
-      uint count = OBJ_REGION(region).count[oct];
-      for (uint k = 0u; k < count; ++k) {
-        uvec4 entry = OBJ_LIST(start + k);
-        if ((objEntryOctants(entry) & ((1u << oct) - 1u)) != 0u) continue;
-        uint i = entry.x;
-        if (OBJ_INSTANCE(i).boundsMax.w < minRadius) continue;
-        float d = objInstanceDistance(i, p);
-        if (d < best.x) best = vec2(d, float(i));
-      }
+    ObjectRegionGpu region = OBJ_REGION(c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z)));
+    for (uint k = 0u; k < region.count; ++k) {
+      uint i = OBJ_LIST(region.start + k).x;
+      if (OBJ_INSTANCE(i).boundsMax.w < minRadius) continue;
+      float d = objInstanceDistance(i, p);
+      if (d < best.x) best = vec2(d, float(i));
     }
     return best;
   }

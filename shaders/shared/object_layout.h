@@ -30,8 +30,6 @@ SDF_CONST uint kMaxRegionCascades = 4;    // cascades that may hold object lists
 // x + 8y + 64z of a region's 512 says some listed instance's AABB touches sub-cell (x, y, z).
 SDF_CONST uint kSubCellsPerAxis = 8;
 SDF_CONST uint kOccupancyWords = 16;  // 512 bits
-// Octant k = x + 2y + 4z of a region: its sub-cells (4x..4x+3, 4y..4y+3, 4z..4z+3).
-SDF_CONST uint kRegionOctants = 8;
 
 // One mesh's local SDF in the atlas (ObjectMeta::meshes).
 struct ObjectMeshGpu {
@@ -60,18 +58,12 @@ SDF_CONST uint kCardLightLevelShift = 30u;        // info.w >> shift: its level 
 
 SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) this frame
 
-// Per region and cascade (OBJ_REGION(c * 512 + r)). The region's list is kept as one list per
-// octant (4³ sub-cells, 8³ cells): an instance is listed in every octant its list entry's box
-// touches (objEntryOctants), so a ray tests only the entries of the octants whose occupied
-// sub-cells it crosses, each instance once (object_trace.glsl, objTraceRegions).
+// Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
-  uint count[kRegionOctants];       // instances listed per octant
-  uint start[kRegionOctants];       // each octant's first entry in OBJ_LIST (objListEntry)
-  uint cursor[kRegionOctants];      // fill pass scratch
-  uint total;                       // entries over the octants (0: nothing listed)
+  uint count;                       // instances listed
+  uint start;                       // first entry in OBJ_LIST (uvec4 each: objListEntry)
   uint moved;                       // nonzero: some wake bit below is set
-  uint pad0;
-  uint pad1;
+  uint cursor;                      // fill pass scratch
   uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)
   // Sub-cells (same bits) within wake distance of an instance that moved, appeared or vanished
   // this frame (old and new poses; host-built, gi/object_frame.h): a probe there turns vigilant.
@@ -124,7 +116,7 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 240);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 144);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);
