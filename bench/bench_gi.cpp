@@ -135,6 +135,24 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
                              glm::vec4(toCamera, 0.0f)};
     sc.queries.push_back(q);
   }
+  // The sampling pass's order: per view, 8×8 tiles row by row, each in Z-order (bits of x and y
+  // interleaved), so 4 consecutive queries are a 2×2 quad and a 32-query warp an 8×4 block.
+  const int width = std::max(points.width, 1);
+  auto tileKey = [&](std::size_t i) {
+    const int x = points.pixel[i] % width, y = points.pixel[i] / width;
+    std::uint32_t z = 0;
+    for (int b = 0; b < 3; ++b)
+      z |= std::uint32_t(((x >> b) & 1) << (2 * b)) | std::uint32_t(((y >> b) & 1) << (2 * b + 1));
+    return std::uint64_t(y / 8) << 40 | std::uint64_t(x / 8) << 8 | z;
+  };
+  sc.sampleOrder.resize(points.position.size());
+  for (std::size_t i = 0; i < sc.sampleOrder.size(); ++i) sc.sampleOrder[i] = std::uint32_t(i);
+  for (std::size_t k = 0; k < points.views(); ++k)
+    std::stable_sort(sc.sampleOrder.begin() + std::ptrdiff_t(points.start[k]),
+                     sc.sampleOrder.begin() + std::ptrdiff_t(points.start[k + 1]),
+                     [&](std::uint32_t a, std::uint32_t b) { return tileKey(a) < tileKey(b); });
+  sc.sampleQueries.clear();
+  for (std::uint32_t i : sc.sampleOrder) sc.sampleQueries.push_back(sc.queries[i]);
   const std::size_t stride = std::max<std::size_t>(1, points.position.size() / 1024);
   for (std::size_t i = 0; i < points.position.size(); i += stride) {
     sc.testQueries.push_back(sc.queries[i]);
@@ -301,7 +319,7 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
     rep.primaryTraceMs = t.milliseconds;
   }
 
-  SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}};
+  SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}, {}, {}};
   addQueries(sc, stacks.begin()->second.stack->stackImage(), scene->voxelSize);
   runConfigs(sc, run, sceneDir, rep);
   rep.seconds = secondsSince(start);

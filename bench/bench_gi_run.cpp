@@ -195,8 +195,10 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
     raysTraced.push_back(s.probes.raysTraced);
     raysCached.push_back(s.probes.raysCached);
     steps.push_back(double(s.probes.steps));
-    e = gi_.irradiance(sc_.queries);
+    const std::vector<glm::vec3> tiled = gi_.irradiance(sc_.sampleQueries);
     sample.push_back(gi_.lastSampleMilliseconds());
+    e.resize(tiled.size());
+    for (std::size_t k = 0; k < tiled.size(); ++k) e[sc_.sampleOrder[k]] = tiled[k];
     if (opt.verbose && !sc_.points.reference.empty())
       std::printf("      frame %llu: relMSE %.4f\n", (unsigned long long)frame_ - 1,
                   reference::relMSE(e, sc_.points.reference));
