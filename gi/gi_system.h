@@ -116,7 +116,8 @@ class GiSystem {
   ObjectScene& objects() { return objects_; }
 
   // irradiance(x, n, view) of the current probes (cascade-0 voxels of the last frame's stack).
-  // Blocking (a CPU round trip): engines sample in their own shaders instead.
+  // Blocking (a CPU round trip): engines sample in their own shaders instead. Queries in pixel
+  // tiles run fastest (ProbeField::sample).
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
   double lastSampleMilliseconds() const;
   // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),

@@ -3,10 +3,10 @@
 // invocation per query (position.w = 1 + cascade samples that cascade alone, 0 = all);
 // results rgb = irradiance, a = 0.
 //
-// The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries come in pixel order,
-// so kProbeSampleShareLanes consecutive ones (a group) are usually neighbouring pixels in the same
-// probe cages: a group that shares a cage splits the union of its open tests among its lanes
-// (probeGroupSharesCage). Each invocation plans, the workgroup exchanges plans through shared
+// The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries are expected in
+// pixel tiles (ProbeField::sample), so kProbeSampleShareLanes consecutive ones (a group) are
+// usually neighbouring pixels in the same probe cages: a group that shares a cage splits the
+// union of its open tests among its lanes (probeGroupSharesCage). Each invocation plans, the workgroup exchanges plans through shared
 // memory, traces, exchanges answers, and finishes. The CPU reference (ProbeFieldCpu::sample)
 // groups queries the same way.
 #extension GL_GOOGLE_include_directive : require
