@@ -20,6 +20,7 @@ struct ObjectBindings {
 
 // The GLSL becomes member functions reading this object's arrays through the OBJ_* macros.
 struct ObjectPasses : ObjectBindings {
+  ObjectWalkCounts* walkCounts = nullptr;  // counted when set
   const CardGpu* cards = nullptr;
   const CardTexelGpu* cardTexels = nullptr;  // indexed from the table's start, as on the GPU
   std::uint32_t cardTableWords = 0;
@@ -36,10 +37,13 @@ struct ObjectPasses : ObjectBindings {
 #define OBJ_CARD(i) cards[i]
 #define OBJ_CARD_TEXEL(i) cardTexels[(i)-cardTableWords]
 #define OBJ_CARD_LIGHT(i) cardLight[i]
+#define OBJ_COUNT(counter) \
+  if (walkCounts) ++walkCounts->counter
 #include "shaders/card_lookup.glsl"
 #include "shaders/card_math.glsl"
 #include "shaders/object_trace.glsl"
 #undef SDF_PRECISE
+#undef OBJ_COUNT
 };
 
 // The card light pass: the static stack's SDF macros and the objects' together, as
@@ -150,8 +154,13 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
         const gs::ObjectInstanceGpu& inst = frame_.instances[i];
         const float voxel = ro.w / 16.0f;
         if (c > 0 && inst.boundsMax.w < settings.sizeRule * voxel) continue;
+        // The AABB first (it holds the OBB, so a miss is a miss), then the exact SAT test.
+        const glm::vec3 hi = lo + glm::vec3(ro.w);
+        if (glm::any(glm::lessThan(glm::vec3(inst.boundsMax), lo)) ||
+            glm::any(glm::greaterThan(glm::vec3(inst.boundsMin), hi)))
+          continue;
         const glm::uvec4 d = atlas_.meshes[inst.info.x].dimsOffset;
-        if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, lo + glm::vec3(ro.w))) continue;
+        if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, hi)) continue;
         lists_[g].push_back(i);
         const auto sub =
             p.objSubCellRange(glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
@@ -186,8 +195,10 @@ void ObjectSceneCpu::setCards(std::vector<gs::CardGpu> table, std::vector<gs::Ca
     frame_.instances[i].info.w = instanceLightBases[i];
 }
 
-gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray) const {
+gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray,
+                                                ObjectWalkCounts* counts) const {
   ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
+  p.walkCounts = counts;
   bindCards(p, cardTable_, cardTexels_, cardLight_);
   const glm::vec3 o(ray.originTMin), d(ray.dirTMax);
   return object_detail::toHit(p, p.objTraceRegions(o, d, ray.originTMin.w, ray.dirTMax.w, 0u), o,

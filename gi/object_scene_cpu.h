@@ -15,6 +15,15 @@
 
 namespace sdfstream {
 
+// What objTraceRegions did for the rays it walked, summed (the GLSL's OBJ_COUNT points):
+// region DDA steps, regions with a list, regions whose occupied sub-cells the ray crossed,
+// occupancy DDA steps, list entries whose box was tested, and boxes the ray crossed (whose
+// instance was then sphere traced).
+struct ObjectWalkCounts {
+  std::uint64_t rays = 0, regionSteps = 0, listedRegions = 0, occupiedRegions = 0,
+                occupancySteps = 0, entriesTested = 0, boxesCrossed = 0;
+};
+
 class ObjectSceneCpu {
  public:
   ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& instances,
@@ -31,7 +40,8 @@ class ObjectSceneCpu {
   const std::vector<gpu_shared::ObjectRegionGpu>& regions() const { return regions_; }
 
   // objTraceRegions / objTraceAll of shaders/object_trace.glsl, as C++.
-  gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray) const;
+  gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray,
+                                          ObjectWalkCounts* counts = nullptr) const;
   gpu_shared::ObjectTraceHit traceAll(const gpu_shared::TraceRay& ray) const;
 
   const ObjectFrameData& frame() const { return frame_; }

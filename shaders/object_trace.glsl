@@ -18,6 +18,12 @@
 //   OBJ_MAT(i)         -> uvec2 (albedo RGBA8, emission RGB9E5) of sample i
 // Rays are in stack space (cascade-0 voxels from cascade 0's minimum corner), unit direction.
 
+// A walk's work, counted by the C++ reference when it defines OBJ_COUNT(counter) (tests measure
+// where a ray's time goes: ObjectWalkCounts); nothing on the GPU.
+#ifndef OBJ_COUNT
+#define OBJ_COUNT(counter)
+#endif
+
 struct ObjectHit {
   float t;        // stack voxels along the ray; < 0: no hit
   uint instance;  // index into OBJ_INSTANCE
@@ -236,6 +242,7 @@ vec2 objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo, 
     }
   }
   for (uint s = 0u; s < 24u; ++s) {
+    OBJ_COUNT(occupancySteps);
     float exitT = min(tNext.x, min(tNext.y, tNext.z));
     uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
     if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
@@ -326,7 +333,9 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
   vec2 span = objBoxClip(o, inv, lo, hi);
   float t = max(tMin, span.x);
   float tEnd = min(tMax, span.y);
+  OBJ_COUNT(rays);
   for (uint step = 0u; step < 512u && t <= tEnd; ++step) {
+    OBJ_COUNT(regionSteps);
     // The finest cascade holding the point a hair past t (the region being entered).
     uint c = cascades - 1u;
     for (uint k = firstCascade; k < cascades; ++k) {
@@ -350,7 +359,10 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
         count > 0u ? objOccupiedSpan(regionIndex, o, d, t, segEnd, rLo, ro.w) : vec2(1.0f, 0.0f);
     float from = max(t, occupied.x - 1e-4f * ro.w);
     uint start = OBJ_REGION(regionIndex).start;
+    if (count > 0u) OBJ_COUNT(listedRegions);
+    if (occupied.x <= occupied.y) OBJ_COUNT(occupiedRegions);
     for (uint k = 0u; k < count && occupied.x <= occupied.y; ++k) {
+      OBJ_COUNT(entriesTested);
       uvec4 entry = OBJ_LIST(start + k);
       uint i = entry.x;
       // A little past the stretch's end, so a surface exactly on a face is not lost.
@@ -359,6 +371,7 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
       ObjListBox lb = objListEntryBox(entry, rLo, ro.w);
       vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
       if (max(box.x, from) > min(box.y, hiT)) continue;
+      OBJ_COUNT(boxesCrossed);
       best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
     }
     if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;

@@ -10,6 +10,7 @@
 
 #include "gi/object_scene.h"
 #include "gi/object_scene_cpu.h"
+#include "objects/scripted_motion.h"
 #include "tests/dynamic/object_scenes.h"
 #include "tests/support/gpu_test.h"
 
@@ -209,6 +210,65 @@ TEST_F(ObjectTraceTest, HitsRotatedScaledBoxesWhereTheAnalyticIntersectionIs) {
   EXPECT_LE(hitMiss, rays.size() / 50);
   EXPECT_LE(worst, 1.0f);
   EXPECT_LE(worstGrazing, 0.5f);
+}
+
+// Where a ray's walk goes at the stress benchmark's densities (`sdfstream stress`: unit boxes
+// and spheres of 0.3-2 m spread over 256 x 16 x 256 m, cascade-0 voxels of 1 m, 4 region
+// cascades), counted by the C++ reference: rays start at random points of the objects' layer
+// inside cascade 0 in random directions and end at a ground 2 m under the layer (downwards) or
+// at 128 voxels, as probe rays bounded by their static hits do. The counts say what a next
+// change to the walk must cut (docs/DECISIONS.md); the walk must equal brute force there too.
+TEST(ObjectWalkCost, CountsAtTheStressDensitiesAndTheWalkEqualsBruteForce) {
+  CascadeStackImage stack = test::windowsOnlyStack(4);
+  stack.voxelSize0 = 1.0;
+  stack.cascade0MinWorld = glm::dvec3(-64.0);
+  const WorldBox layer{glm::dvec3(-128.0, -2.0, -128.0), glm::dvec3(128.0, 14.0, 128.0)};
+  std::vector<double> entriesPerRay;
+  for (std::uint32_t count : {100u, 1000u, 10000u}) {
+    ObjectLibrary library;
+    InstanceSet instances;
+    spreadObjects(instances, library, count, layer, 1, 2);
+    // Counted with the default settings; compared with brute force where every object is listed
+    // (the size rule leaves small objects out of the coarser cascades a long ray reaches).
+    const ObjectSceneCpu cpu(library, instances, stack);
+    ObjectSceneSettings everywhere;
+    everywhere.sizeRule = 0.0f;
+    const ObjectSceneCpu all(library, instances, stack, everywhere);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), n(-1.0f, 1.0f);
+    ObjectWalkCounts counts;
+    std::vector<gs::ObjectTraceHit> walked, brute;
+    for (int k = 0; k < 2000; ++k) {
+      const glm::vec3 o(4.0f + 120.0f * u(rng), 62.0f + 16.0f * u(rng), 4.0f + 120.0f * u(rng));
+      const glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)) + 1e-4f);
+      const float ground = d.y < 0.0f ? (o.y - 60.0f) / -d.y : 1e30f;
+      gs::TraceRay ray{glm::vec4(o, 0.0f), glm::vec4(d, std::min(128.0f, ground))};
+      cpu.traceRegions(ray, &counts);
+      walked.push_back(all.traceRegions(ray));
+      brute.push_back(all.traceAll(ray));
+    }
+    const Agreement g = compare(walked, brute, all.frame());
+    const double rays = double(counts.rays);
+    std::printf(
+        "[figures] %u movers, %llu rays: per ray %.2f region steps, %.2f listed regions, %.2f "
+        "crossing occupied sub-cells, %.1f occupancy steps, %.1f entries tested, %.2f boxes "
+        "crossed; %zu hits, %zu hit/miss disagreements, worst |dt| %.3f object voxel\n",
+        count, (unsigned long long)counts.rays, double(counts.regionSteps) / rays,
+        double(counts.listedRegions) / rays, double(counts.occupiedRegions) / rays,
+        double(counts.occupancySteps) / rays, double(counts.entriesTested) / rays,
+        double(counts.boxesCrossed) / rays, g.hits, g.hitMiss, g.worstT);
+    EXPECT_EQ(counts.rays, 2000u);
+    EXPECT_EQ(g.hitMiss, 0u) << count;
+    EXPECT_EQ(g.otherObject, 0u) << count;
+    EXPECT_LE(g.worstT, 0.5f) << count;
+    EXPECT_GT(g.hits, 0u) << count;
+    EXPECT_LE(counts.occupiedRegions, counts.listedRegions);
+    EXPECT_LE(counts.boxesCrossed, counts.entriesTested);
+    entriesPerRay.push_back(double(counts.entriesTested) / rays);
+  }
+  // Denser scenes list more per region: the tests a ray pays grow with the movers.
+  EXPECT_LT(entriesPerRay[0], entriesPerRay[1]);
+  EXPECT_LT(entriesPerRay[1], entriesPerRay[2]);
 }
 
 }  // namespace
