@@ -136,7 +136,8 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
     sc.queries.push_back(q);
   }
   // The sampling pass's order: per view, 8×8 tiles row by row, each in Z-order (bits of x and y
-  // interleaved), so 4 consecutive queries are a 2×2 quad and a 32-query warp an 8×4 block.
+  // interleaved), so 4 consecutive queries are a 2×2 quad, 8 a 4×2 block (a sharing group of
+  // probe_sample.comp) and a 32-query warp an 8×4 block.
   const int width = std::max(points.width, 1);
   auto tileKey = [&](std::size_t i) {
     const int x = points.pixel[i] % width, y = points.pixel[i] / width;

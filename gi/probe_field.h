@@ -60,10 +60,10 @@ class ProbeField {
   void setObjects(const ObjectScene* objects) { objects_ = objects; }
 
   // irradiance(x, n, view) of the current probes at each query; blocking. Fastest with the
-  // queries of a screen in 8×8 pixel tiles, Z-order inside (2×2 quads consecutive, as bench gi
-  // gives them): neighbours then share probe cages and SDF tests (ProbeFieldSettings::
-  // shareSdfTests) and a warp's loads coincide; Sponza at 1080p on an H100, 2.05 ms against
-  // 2.68 in pixel rows (docs/GPU_BUDGET.md).
+  // queries of a screen in 8×8 pixel tiles, Z-order inside (as bench gi gives them: 8
+  // consecutive queries are a 4×2 block): neighbours then share probe cages and SDF tests
+  // (ProbeFieldSettings::shareSdfTests) and a warp's loads coincide; Sponza at 1080p on an H100,
+  // 1.88 ms against 2.68 in pixel rows (docs/GPU_BUDGET.md).
   std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
                                 std::span<const gpu_shared::ProbeQuery> queries);
 

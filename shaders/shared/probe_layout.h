@@ -157,8 +157,10 @@ SDF_CONST uint kProbeDepthListVec4s = 17u;  // 1 + kProbeDepthListRays / 2
 SDF_CONST uint kProbeDepthListDense = 0xffffffffu;
 SDF_CONST float kProbeDepthListFloor = 3e-5f;  // of the texel's nearest ray's weight
 // probe_sample.comp: consecutive queries (neighbouring pixels) that split the SDF tests of a
-// cage they share (a power of two dividing the workgroup's 64).
-SDF_CONST uint kProbeSampleShareLanes = 4u;
+// cage they share (a power of two dividing the workgroup's 64). 8: a 4×2 pixel block in tile
+// order, so each lane traces at most one of the cage's 8 corners; against 4 (2×2 quads), Sponza
+// at 1080p on an H100 2.055 -> 1.878 ms (docs/GPU_BUDGET.md, "queries in pixel tiles").
+SDF_CONST uint kProbeSampleShareLanes = 8u;
 
 struct ProbePushConstants {
   uvec4 dispatch;  // x: mode, y: threads of this dispatch, zw unused
