@@ -26,8 +26,7 @@ struct SceneContext {
   std::vector<std::size_t> testIndex;                        // testQueries[i] is point testIndex[i]
   // The queries as the sampling pass gets them: each view's in 8×8 pixel tiles, Z-order inside
   // (2×2 quads and 4×2 blocks consecutive), as an engine dispatching over its G-buffer in tiles
-  // would give them;
-  // sampleQueries[k] is point sampleOrder[k].
+  // would give them. sampleQueries[k] is point sampleOrder[k].
   std::vector<gpu_shared::ProbeQuery> sampleQueries;
   std::vector<std::uint32_t> sampleOrder;
 };

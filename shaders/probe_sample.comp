@@ -6,9 +6,9 @@
 // The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries are expected in
 // pixel tiles (ProbeField::sample), so kProbeSampleShareLanes consecutive ones (a group) are
 // usually neighbouring pixels in the same probe cages: a group that shares a cage splits the
-// union of its open tests among its lanes (probeGroupSharesCage). Each invocation plans, the workgroup exchanges plans through shared
-// memory, traces, exchanges answers, and finishes. The CPU reference (ProbeFieldCpu::sample)
-// groups queries the same way.
+// union of its open tests among its lanes (probeGroupSharesCage). Each invocation plans, the
+// workgroup exchanges plans through shared memory, traces, exchanges answers, and finishes. The
+// CPU reference (ProbeFieldCpu::sample) groups queries the same way.
 #extension GL_GOOGLE_include_directive : require
 #include "shaders/probe_bindings.glsl"
 
