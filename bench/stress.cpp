@@ -141,8 +141,11 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       m.frame = f;
       for (const gpu::PassTiming& t : gi.objects().lastTimings()) {
         if (!stress::hasObjects(mode)) break;  // never updated: nothing of this run
-        if (t.name == "object_regions_count") m.regionCountMs += t.milliseconds;
-        if (t.name == "object_regions_scan") m.regionScanMs += t.milliseconds;
+        // The sub-cell lists' count and scan passes are counted with the regions'.
+        if (t.name == "object_regions_count" || t.name == "object_regions_subcount")
+          m.regionCountMs += t.milliseconds;
+        if (t.name == "object_regions_scan" || t.name == "object_regions_subscan")
+          m.regionScanMs += t.milliseconds;
         if (t.name == "object_regions_fill") m.regionFillMs += t.milliseconds;
       }
       for (const gpu::PassTiming& t : gi.probes().lastTimings())

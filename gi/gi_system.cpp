@@ -9,9 +9,9 @@
 
 namespace sdfstream {
 namespace {
-// Timed passes per frame: 3 region passes and the light cache, then 7 probe passes per probe
+// Timed passes per frame: the region passes and the light cache's, then 7 probe passes per probe
 // update (a light switch's catch-up frames run several), each with room to spare.
-constexpr std::uint32_t kPassesBesideProbes = 8;
+constexpr std::uint32_t kPassesBesideProbes = ObjectScene::kRegionPasses + 6;
 constexpr std::uint32_t kPassesPerProbeUpdate = 8;
 
 std::vector<gpu::PassTiming> passesStartingWith(const std::vector<gpu::PassTiming>& all,

@@ -71,6 +71,23 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
 
 namespace {
 // Inclusive region range of a stack AABB in region cascade c; false when it misses the grid.
+// Sub-cells (object_layout.h) of cascade c's region grid that instance g's AABB touches: every
+// region's share of them together, an upper bound of its sub-cell list entries there.
+std::uint64_t subCellVolume(const gs::ObjectFrameGpu& f, std::uint32_t c,
+                            const gs::ObjectInstanceGpu& g) {
+  const glm::vec4 ro = f.regionOrigin[c];
+  const float perSub = float(gs::kSubCellsPerAxis) / ro.w;
+  const glm::ivec3 last(int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis) - 1);
+  const glm::ivec3 lo =
+      glm::clamp(glm::ivec3(glm::floor((glm::vec3(g.boundsMin) - glm::vec3(ro)) * perSub)),
+                 glm::ivec3(0), last);
+  const glm::ivec3 hi =
+      glm::clamp(glm::ivec3(glm::floor((glm::vec3(g.boundsMax) - glm::vec3(ro)) * perSub)),
+                 glm::ivec3(0), last);
+  const glm::ivec3 ext = glm::max(hi - lo + 1, glm::ivec3(0));
+  return std::uint64_t(ext.x) * ext.y * ext.z;
+}
+
 bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, glm::vec3 bmax,
                  glm::ivec3& lo, glm::ivec3& hi) {
   const glm::vec4 ro = f.regionOrigin[c];
@@ -208,7 +225,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
   out.instances.resize(all.size());
   struct Totals {
-    std::uint64_t capacity = 0;
+    std::uint64_t capacity = 0, subCapacity = 0;
     std::uint32_t cascadeMask = 0, moved = 0;
     glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
   };
@@ -228,7 +245,9 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
             if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
               continue;
             const glm::ivec3 ext = hi - lo + 1;
-            t.capacity += std::uint64_t(ext.x) * ext.y * ext.z;
+            const std::uint64_t regions = std::uint64_t(ext.x) * ext.y * ext.z;
+            t.capacity += regions;
+            t.subCapacity += std::min(subCellVolume(f, c, g), regions * gs::kSubListMaxCells);
             t.cascadeMask |= 1u << c;
           }
           out.instances[k] = g;
@@ -239,6 +258,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
       },
       [](Totals a, const Totals& b) {
         a.capacity += b.capacity;
+        a.subCapacity += b.subCapacity;
         a.cascadeMask |= b.cascadeMask;
         a.moved += b.moved;
         a.lo = glm::min(a.lo, b.lo);
@@ -260,6 +280,8 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   out.wakeMs = millisecondsSince(instancesDone);
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
+  out.subListCapacity = std::uint32_t(std::min<std::uint64_t>(
+      totals.subCapacity + totals.subCapacity / 8 + 64, settings.maxSubListEntries));
   f.counts.z = out.listCapacity;
 }
 

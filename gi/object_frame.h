@@ -31,6 +31,10 @@ struct ObjectSceneSettings {
   // The default is the probe field's sleep threshold: a change below it would not keep a probe
   // awake either. 1 wakes only probes inside the changed boxes; clamped to [1e-4, 1].
   float wakeIrradianceChange = 0.05f;
+  // Sub-cell headers (and as many sub-cell entries) a frame may hold, uvec4 each: memory for the
+  // lists a ray reads per sub-cell it crosses (object_layout.h). Regions whose lists do not fit
+  // are walked with their region list alone (correct, slower).
+  std::uint32_t maxSubListEntries = 1u << 20;
   // Probe rays test every instance instead of walking the regions: the naive peer of the stress
   // benchmark (the regions are still built, so their cost is measured either way).
   bool naiveTraversal = false;
@@ -74,6 +78,10 @@ struct ObjectFrameData {
   std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor/occupancy 0;
                                                          // wake and moved from changedBoxes
   std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
+  // Sub-cell headers, and as many sub-cell entries: Σ instances' AABB sub-cell volumes (at most
+  // kSubListMaxCells a region), at most ObjectSceneSettings::maxSubListEntries; regions whose
+  // sub-cell lists do not fit are walked without them (object_layout.h, kNoSubLists).
+  std::uint32_t subListCapacity = 0;
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
   std::uint32_t movedInstances = 0;
   std::uint32_t movedRegions = 0;  // regions with a wake bit (removals included)

@@ -178,7 +178,7 @@ void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instan
                          const CascadeStackImage& stack) {
   prepareCards(library, stack.voxelSize0);  // its own submission, before this batch opens
   gpu::StagingRing staging(context_, 1);
-  gpu::CommandBatch batch = context_.beginBatch(3);
+  gpu::CommandBatch batch = context_.beginBatch(kRegionPasses);
   staging.beginFrame();
   record(batch, staging, library, instances, stack);
   staging.endFrame(batch.submit());
@@ -223,21 +223,33 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const std::size_t regionBytes = frame_.regions.size() * sizeof(gs::ObjectRegionGpu);
   ensure(context_, regions_, regionBytes, gpu::BufferKind::DeviceLocal);
   staging.upload(batch, regions_, 0, frame_.regions.data(), regionBytes);
-  ensure(context_, lists_, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
-         gpu::BufferKind::DeviceLocal);
+  ensure(context_, lists_, listEntries() * sizeof(glm::uvec4), gpu::BufferKind::DeviceLocal);
 
   const std::uint32_t n = frame_.frame.counts.x, cascades = frame_.frame.counts.y;
   if (n == 0) return;  // only removals: the moved flags, no lists to build
   const auto bufs = buffers();
-  gs::ObjectRegionPush push{0u, n, cascades, frame_.listCapacity};
-  batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(64u * n, cascades, 1u));
+  // The sub-cell headers start at zero (the sub-cell count phase adds into them).
+  batch.fill(lists_, 0u, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
+             std::size_t(frame_.subListCapacity) * sizeof(glm::uvec4));
+  gs::ObjectRegionPush push{0u, n,  cascades, frame_.listCapacity, frame_.subListCapacity,
+                            0u, 0u, 0u};
+  const glm::uvec3 perInstance(64u * n, cascades, 1u);
+  batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push, perInstance);
   push.phase = 1u;
   batch.dispatch("object_regions_scan", regionsPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(64u, 1u, 1u));
   push.phase = 2u;
-  batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(64u * n, cascades, 1u));
+  batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
+                 perInstance);
+  push.phase = 3u;
+  batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u * cascades * gs::kRegionsPerCascade, 1u, 1u));
+  push.phase = 4u;
+  batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push, perInstance);
+}
+
+std::size_t ObjectScene::listEntries() const {
+  return std::size_t(frame_.listCapacity) + 2 * std::size_t(frame_.subListCapacity);
 }
 
 std::vector<gs::ObjectTraceHit> ObjectScene::trace(std::span<const gs::TraceRay> rays,
@@ -268,7 +280,7 @@ std::vector<gs::ObjectRegionGpu> ObjectScene::downloadRegions() const {
 }
 
 std::vector<glm::uvec4> ObjectScene::downloadLists() const {
-  std::vector<glm::uvec4> out(active() ? frame_.listCapacity : 0);
+  std::vector<glm::uvec4> out(active() ? listEntries() : 0);
   if (!out.empty()) lists_.download(out.data(), out.size() * sizeof(glm::uvec4));
   return out;
 }

@@ -108,10 +108,15 @@ class ObjectScene {
   std::vector<gpu_shared::ObjectTraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
                                                 bool bruteForce);
 
+  // Timed passes record() adds to a batch: count, scan, sub-cell count and scan, fill.
+  static constexpr std::uint32_t kRegionPasses = 5;
+
   std::vector<gpu_shared::ObjectRegionGpu> downloadRegions() const;
-  // The region lists' entries (objListEntry in shaders/object_trace.glsl: instance index in x).
+  // OBJ_LIST: the region lists' entries (objListEntry in shaders/object_trace.glsl: instance
+  // index in x), then the sub-cell headers and the sub-cell entries (object_layout.h).
   std::vector<glm::uvec4> downloadLists() const;
-  // GPU times of the last update's region passes (count, scan, fill); empty when inactive.
+  // GPU times of the last update's region passes (count, scan, sub-cell count and scan, fill);
+  // empty when inactive.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }
   // CPU time of the last record's buildObjectFrame (the rest of record is uploads).
@@ -124,6 +129,7 @@ class ObjectScene {
   void recordAtlas(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                    const ObjectLibrary& library);
   void uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging);
+  std::size_t listEntries() const;  // OBJ_LIST's uvec4s this frame
   void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged,
                        glm::vec3 viewer, float levelBeyond);
 

@@ -1,5 +1,8 @@
 #include "gi/object_scene_cpu.h"
 
+#include <algorithm>
+#include <bit>
+
 #include "shaders/shared/color_codec.h"
 
 namespace sdfstream {
@@ -122,6 +125,11 @@ Passes passesOf(const ObjectAtlasData& atlas, const ObjectFrameData& frame,
   return p;
 }
 
+glm::uvec4 entryOf(ObjectPasses& p, std::uint32_t i, glm::vec3 regionLo, float edge) {
+  const gs::ObjectInstanceGpu& inst = p.instances[i];
+  return p.objListEntry(i, glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), regionLo, edge);
+}
+
 void bindCards(ObjectPasses& p, const std::vector<gs::CardGpu>& table,
                const std::vector<gs::CardTexelGpu>& texels,
                const std::vector<std::uint32_t>& light) {
@@ -142,14 +150,19 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
   lists_.assign(regionCount, {});
   regions_.assign(regionCount, gs::ObjectRegionGpu{});
   ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
+  // Per region: the instances touching each sub-cell (bit order), gathered before the layout.
+  std::vector<std::vector<std::vector<std::uint32_t>>> subLists(regionCount);
+  std::vector<glm::vec3> regionLo(regionCount);
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const glm::vec4 ro = frame_.frame.regionOrigin[c];
     for (std::uint32_t r = 0; r < gs::kRegionsPerCascade; ++r) {
       const glm::vec3 lo = glm::vec3(ro) + glm::vec3(r % 8, (r / 8) % 8, r / 64) * ro.w;
       const std::uint32_t g = c * gs::kRegionsPerCascade + r;
+      regionLo[g] = lo;
       std::copy(std::begin(frame_.regions[g].wake), std::end(frame_.regions[g].wake),
                 std::begin(regions_[g].wake));
       regions_[g].moved = frame_.regions[g].moved;
+      std::vector<std::uint32_t> wide, narrow;
       for (std::uint32_t i = 0; i < frame_.instances.size(); ++i) {
         const gs::ObjectInstanceGpu& inst = frame_.instances[i];
         const float voxel = ro.w / 16.0f;
@@ -161,23 +174,75 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
           continue;
         const glm::uvec4 d = atlas_.meshes[inst.info.x].dimsOffset;
         if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, hi)) continue;
-        lists_[g].push_back(i);
         const auto sub =
             p.objSubCellRange(glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
+        if (p.objSubCellCount(sub) > gs::kSubListMaxCells) {
+          wide.push_back(i);
+          continue;
+        }
+        narrow.push_back(i);
+        if (subLists[g].empty()) subLists[g].resize(512);
         for (int z = sub.lo.z; z <= sub.hi.z; ++z)
-          for (int y = sub.lo.y; y <= sub.hi.y; ++y)
+          for (int y = sub.lo.y; y <= sub.hi.y; ++y) {
             regions_[g].occupancy[p.objOccupancyWord(y, z)] |= p.objRowMask(sub.lo.x, sub.hi.x)
                                                                << p.objOccupancyShift(y);
+            for (int x = sub.lo.x; x <= sub.hi.x; ++x) subLists[g][x + 8 * y + 64 * z].push_back(i);
+          }
       }
+      regions_[g].wide = std::uint32_t(wide.size());
+      regions_[g].count = std::uint32_t(wide.size() + narrow.size());
+      lists_[g] = wide;
+      lists_[g].insert(lists_[g].end(), narrow.begin(), narrow.end());
+      std::sort(lists_[g].begin(), lists_[g].end());
+      wide.insert(wide.end(), narrow.begin(), narrow.end());  // the entries' order on the GPU
       regions_[g].start = std::uint32_t(flat_.size());
-      regions_[g].count = std::uint32_t(lists_[g].size());
-      for (std::uint32_t i : lists_[g]) {
-        const gs::ObjectInstanceGpu& inst = frame_.instances[i];
-        flat_.push_back(
-            p.objListEntry(i, glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w));
-      }
+      for (std::uint32_t i : wide) flat_.push_back(entryOf(p, i, regionLo[g], ro.w));
     }
   }
+  // The sub-cell headers of every region (in rank order), then their entries; as the GPU's scan,
+  // a region whose headers or entries would pass the capacity (frame_.subListCapacity) keeps
+  // none (kNoSubLists).
+  const std::size_t headerBase = flat_.size();
+  const std::size_t capacity = frame_.subListCapacity;
+  std::size_t headers = 0, entries = 0;
+  for (std::size_t g = 0; g < regionCount; ++g) {
+    std::uint32_t rank = 0;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords; w += 2) {
+      const std::uint32_t next = rank + std::uint32_t(std::popcount(regions_[g].occupancy[w]));
+      regions_[g].rank[w / 2] = rank | next << 16;
+      rank = next + std::uint32_t(std::popcount(regions_[g].occupancy[w + 1]));
+    }
+    std::size_t own = 0;
+    for (const auto& list : subLists[g]) own += list.size();
+    const bool fits = headers + rank <= capacity && entries + own <= capacity;
+    regions_[g].subBase = fits ? std::uint32_t(headerBase + headers) : gs::kNoSubLists;
+    if (!fits) subLists[g].clear();
+    headers += rank;
+    entries += own;
+  }
+  flat_.resize(headerBase + headers, glm::uvec4(0u));
+  for (std::size_t g = 0; g < regionCount; ++g) {
+    const glm::vec4 ro = frame_.frame.regionOrigin[g / gs::kRegionsPerCascade];
+    regions_[g].subStart = std::uint32_t(flat_.size());
+    for (std::uint32_t bit = 0, rank = 0; bit < 512 && !subLists[g].empty(); ++bit) {
+      if (subLists[g][bit].empty()) continue;
+      flat_[regions_[g].subBase + rank++] =
+          glm::uvec4(std::uint32_t(flat_.size()), std::uint32_t(subLists[g][bit].size()), 0u, 0u);
+      for (std::uint32_t i : subLists[g][bit]) flat_.push_back(entryOf(p, i, regionLo[g], ro.w));
+    }
+  }
+}
+
+std::vector<std::uint32_t> ObjectSceneCpu::subCellInstances(std::uint32_t region,
+                                                            std::uint32_t bit) const {
+  std::vector<std::uint32_t> out;
+  const gs::ObjectRegionGpu& r = regions_.at(region);
+  if ((r.occupancy[bit / 32] >> (bit % 32) & 1u) == 0 || r.subBase == gs::kNoSubLists) return out;
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
+  const glm::uvec4 header = flat_.at(r.subBase + p.objSubRank(region, bit));
+  for (std::uint32_t k = 0; k < header.y; ++k) out.push_back(flat_.at(header.x + k).x);
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 bool ObjectSceneCpu::wakes(glm::vec3 stackPoint, std::uint32_t cascade) const {

@@ -17,11 +17,11 @@ namespace sdfstream {
 
 // What objTraceRegions did for the rays it walked, summed (the GLSL's OBJ_COUNT points):
 // region DDA steps, regions with a list, regions whose occupied sub-cells the ray crossed,
-// occupancy DDA steps, list entries whose box was tested, and boxes the ray crossed (whose
-// instance was then sphere traced).
+// occupancy DDA steps, occupied sub-cells whose list was read, list entries whose box was tested,
+// and boxes the ray crossed (whose instance was then sphere traced).
 struct ObjectWalkCounts {
   std::uint64_t rays = 0, regionSteps = 0, listedRegions = 0, occupiedRegions = 0,
-                occupancySteps = 0, entriesTested = 0, boxesCrossed = 0;
+                occupancySteps = 0, occupiedCells = 0, entriesTested = 0, boxesCrossed = 0;
 };
 
 class ObjectSceneCpu {
@@ -32,6 +32,10 @@ class ObjectSceneCpu {
   // Per region (cascade * 512 + region): the sorted instance indices whose OBB overlaps it
   // (size rule applied).
   const std::vector<std::vector<std::uint32_t>>& regionInstances() const { return lists_; }
+  // The sorted instances listed for sub-cell `bit` (x + 8y + 64z) of a region: those of the
+  // region's list that are not wide (ObjectRegionGpu::wide) and whose AABB touches it; empty
+  // where the region has no sub-cell lists (kNoSubLists).
+  std::vector<std::uint32_t> subCellInstances(std::uint32_t region, std::uint32_t bit) const;
   // objMovedNear of shaders/object_trace.glsl: whether a probe at stack point p of cascade c
   // wakes (the host's wake bits, copied from frame()).
   bool wakes(glm::vec3 stackPoint, std::uint32_t cascade) const;
@@ -65,8 +69,10 @@ class ObjectSceneCpu {
   ObjectAtlasData atlas_;
   ObjectFrameData frame_;
   std::vector<std::vector<std::uint32_t>> lists_;
-  std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start into flat_
-  std::vector<glm::uvec4> flat_;  // the lists' entries (objListEntry), region after region
+  std::vector<gpu_shared::ObjectRegionGpu> regions_;  // count/start/subBase/subStart into flat_
+  // OBJ_LIST: the region lists' entries (objListEntry; region after region, wide ones first),
+  // every region's sub-cell headers, then the sub-cell entries.
+  std::vector<glm::uvec4> flat_;
   std::vector<gpu_shared::CardGpu> cardTable_;
   std::vector<gpu_shared::CardTexelGpu> cardTexels_;
   std::vector<std::uint32_t> cardLight_;

@@ -277,6 +277,16 @@ void CommandBatch::fill(Buffer& dst, std::uint32_t value) {
   vkCmdFillBuffer(commandBuffer_, dst.handle(), 0, VK_WHOLE_SIZE, value);
 }
 
+void CommandBatch::fill(Buffer& dst, std::uint32_t value, std::size_t offset, std::size_t bytes) {
+  if (bytes == 0) return;
+  SDFSTREAM_GPU_CHECK(dst, "fill of an empty buffer");
+  SDFSTREAM_GPU_CHECK(offset % 4 == 0 && bytes % 4 == 0, "fill range not in 32-bit words");
+  SDFSTREAM_GPU_CHECK(offset <= dst.size() && bytes <= dst.size() - offset,
+                      "fill range outside the buffer");
+  beforeCommand();
+  vkCmdFillBuffer(commandBuffer_, dst.handle(), offset, bytes, value);
+}
+
 std::uint64_t CommandBatch::submit() {
   SDFSTREAM_GPU_CHECK(commandBuffer_ && !submitted(), "batch submitted twice");
   SDFSTREAM_GPU_CHECK(ownsCommandBuffer_,

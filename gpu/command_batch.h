@@ -108,6 +108,9 @@ class CommandBatch {
   void copyRegions(const Buffer& src, Buffer& dst, std::span<const VkBufferCopy> regions);
   // Sets every 32-bit word of `dst` to `value`.
   void fill(Buffer& dst, std::uint32_t value);
+  // Sets the 32-bit words of dst's [offset, offset + bytes) to `value`. Checked (abort): the
+  // range lies inside the buffer; offset and bytes are multiples of 4. Nothing when bytes is 0.
+  void fill(Buffer& dst, std::uint32_t value, std::size_t offset, std::size_t bytes);
 
   // Ends recording and submits; returns the submission index (Context::wait). Once only; own
   // batches only.

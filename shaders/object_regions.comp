@@ -1,18 +1,26 @@
 #version 450
-// Macro-region object lists, rebuilt every frame from the instances (gi/object_scene.h; Godot
-// SDFGI slides b, "Storing the object list per region": a compute pass per object over the
-// regions it may touch, culling each region against the object's oriented box, atomics to mark
-// presence). Compact lists instead of the slides' bitfields, so a ray pays for the objects in a
-// region, not for N/32 words of it (docs/DECISIONS.md). Three phases, one dispatch each:
-//   0 count: workgroup (instance, cascade); its 64 threads stride over the regions of the
-//            instance's AABB range and atomically count those its OBB overlaps and OR the
-//            sub-cells its AABB touches into the region's occupancy bitfield (the wake bits,
-//            which need the instances' old poses too, come from the host);
-//   1 scan:  one workgroup turns counts into list starts (exclusive prefix sum), clamped to the
-//            list capacity the host sized from the same AABB ranges;
-//   2 fill:  as 0, appending the instance's entry (index and quantised AABB, objListEntry) at
-//            start + atomicAdd(cursor).
-// Cost: instances × regions of their AABBs, plus one scan of cascades × 512 counts.
+// Macro-region object lists and their sub-cell lists, rebuilt every frame from the instances
+// (gi/object_scene.h; Godot SDFGI slides b, "Storing the object list per region": a compute pass
+// per object over the regions it may touch, culling each region against the object's oriented
+// box, atomics to mark presence). Compact lists instead of the slides' bitfields, so a ray pays
+// for the objects in a region, not for N/32 words of it (docs/DECISIONS.md); and per occupied
+// sub-cell a list of the instances whose AABB touches it (object_layout.h), so a ray pays only
+// for the objects of the sub-cells it crosses. Five phases, one dispatch each; the host zeroes
+// the sub-cell headers before the first:
+//   0 count:     workgroup (instance, cascade); its 64 threads stride over the regions of the
+//                instance's AABB range and atomically count those its OBB overlaps; for a wide
+//                instance (more than kSubListMaxCells sub-cells) the wide count, else the
+//                sub-cells it touches into the occupancy bitfield and its sub-cell entries (the
+//                wake bits, which need the instances' old poses too, come from the host);
+//   1 scan:      one workgroup turns the counts into list starts (exclusive prefix sums of the
+//                entries, the occupied sub-cells and the sub-cell entries), clamped to the
+//                capacities the host sized from the same AABB ranges, and ranks the occupancy
+//                words;
+//   2 sub-count: as 0, counting each non-wide instance into the headers of its sub-cells;
+//   3 sub-scan:  workgroup per region: its headers' counts into entry starts;
+//   4 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
+//                to its region's list (wide ones first) and to its sub-cells' lists.
+// Cost: instances × regions of their AABBs × (1 + sub-cells touched), plus the two scans.
 #extension GL_GOOGLE_include_directive : require
 
 #define SDF_PRECISE precise
@@ -25,7 +33,13 @@ layout(push_constant) uniform Push { ObjectRegionPush pc; };
 
 layout(local_size_x = 64) in;
 
-shared uint partial[64];
+shared uvec3 partial[64];
+
+uint occupiedSubCells(uint r) {
+  uint n = 0u;
+  for (uint w = 0u; w < kOccupancyWords; ++w) n += uint(bitCount(objRegions[r].occupancy[w]));
+  return n;
+}
 
 void scanRegions() {
   uint total = pc.cascades * kRegionsPerCascade;
@@ -33,33 +47,83 @@ void scanRegions() {
   uint lid = gl_LocalInvocationID.x;
   uint begin = min(lid * chunk, total);
   uint end = min(begin + chunk, total);
-  uint sum = 0u;
-  for (uint r = begin; r < end; ++r) sum += objRegions[r].count;
+  // x: list entries, y: sub-cell headers (occupied sub-cells), z: sub-cell entries.
+  uvec3 sum = uvec3(0u);
+  for (uint r = begin; r < end; ++r)
+    sum += uvec3(objRegions[r].count, occupiedSubCells(r), objRegions[r].subStart);
   partial[lid] = sum;
   barrier();
   if (lid == 0u) {
-    uint run = 0u;
+    uvec3 run = uvec3(0u);
     for (uint k = 0u; k < 64u; ++k) {
-      uint v = partial[k];
+      uvec3 v = partial[k];
       partial[k] = run;
       run += v;
     }
   }
   barrier();
-  uint start = partial[lid];
+  uvec3 at = partial[lid];
   for (uint r = begin; r < end; ++r) {
     uint n = objRegions[r].count;
-    uint s = min(start, pc.capacity);
+    uint s = min(at.x, pc.capacity);
     objRegions[r].start = s;
     objRegions[r].count = min(n, pc.capacity - s);  // never past the list (host sizes it so)
+    objRegions[r].wide = min(objRegions[r].wide, objRegions[r].count);
     objRegions[r].cursor = 0u;
-    start += n;
+    objRegions[r].wideCursor = 0u;
+    uint rank = 0u;
+    for (uint w = 0u; w < kOccupancyWords; w += 2u) {
+      uint next = rank + uint(bitCount(objRegions[r].occupancy[w]));
+      objRegions[r].rank[w / 2u] = rank | (next << 16u);
+      rank = next + uint(bitCount(objRegions[r].occupancy[w + 1u]));
+    }
+    uint entries = objRegions[r].subStart;
+    bool fits = at.y + rank <= pc.subCapacity && at.z + entries <= pc.subCapacity;
+    objRegions[r].subBase = fits ? pc.capacity + at.y : kNoSubLists;
+    objRegions[r].subStart = pc.capacity + pc.subCapacity + min(at.z, pc.subCapacity);
+    at += uvec3(n, rank, entries);
+  }
+}
+
+// Phase 3, one workgroup per region: the region's headers (in rank order) get their entries'
+// starts, one run after the other from the region's subStart.
+void scanSubCells() {
+  uint r = gl_WorkGroupID.x;
+  uint lid = gl_LocalInvocationID.x;
+  if (r >= pc.cascades * kRegionsPerCascade) return;
+  uint base = objRegions[r].subBase;
+  if (base == kNoSubLists || objRegions[r].count == objRegions[r].wide) return;
+  uint n = occupiedSubCells(r);
+  uint begin = min(lid * 8u, n);
+  uint end = min(begin + 8u, n);
+  uint sum = 0u;
+  for (uint h = begin; h < end; ++h) sum += objList[base + h].y;
+  partial[lid] = uvec3(sum, 0u, 0u);
+  barrier();
+  if (lid == 0u) {
+    uint run = 0u;
+    for (uint k = 0u; k < 64u; ++k) {
+      uint v = partial[k].x;
+      partial[k].x = run;
+      run += v;
+    }
+  }
+  barrier();
+  uint at = objRegions[r].subStart + partial[lid].x;
+  for (uint h = begin; h < end; ++h) {
+    objList[base + h].x = at;
+    objList[base + h].z = 0u;
+    at += objList[base + h].y;
   }
 }
 
 void main() {
   if (pc.phase == 1u) {
     scanRegions();
+    return;
+  }
+  if (pc.phase == 3u) {
+    scanSubCells();
     return;
   }
   uint i = gl_WorkGroupID.x;
@@ -70,6 +134,8 @@ void main() {
   if (!rr.any) return;
   ObjectMeshGpu m = objMeshes[inst.info.x];
   uvec3 dims = uvec3(m.dimsOffset.x, m.dimsOffset.y, m.dimsOffset.z);
+  vec3 bmin = vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z);
+  vec3 bmax = vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z);
   ivec3 ext = rr.hi - rr.lo + ivec3(1);
   uint n = uint(ext.x * ext.y * ext.z);
   vec4 ro = objFrame.regionOrigin[c];
@@ -79,22 +145,42 @@ void main() {
     vec3 lo = vec3(ro.x, ro.y, ro.z) + vec3(r) * ro.w;
     if (!objObbOverlapsBox(inst, dims, lo, lo + vec3(ro.w))) continue;
     uint region = c * kRegionsPerCascade + uint(r.x + 8 * (r.y + 8 * r.z));
+    ObjSubRange sr = objSubCellRange(bmin, bmax, lo, ro.w);
+    uint cells = objSubCellCount(sr);
+    bool wide = cells > kSubListMaxCells;
     if (pc.phase == 0u) {
       atomicAdd(objRegions[region].count, 1u);
-      ObjSubRange sr =
-          objSubCellRange(vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
-                          vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);
+      if (wide) {
+        atomicAdd(objRegions[region].wide, 1u);
+        continue;
+      }
+      atomicAdd(objRegions[region].subStart, cells);
       uint row = objRowMask(sr.lo.x, sr.hi.x);
       for (int z = sr.lo.z; z <= sr.hi.z; ++z)
         for (int y = sr.lo.y; y <= sr.hi.y; ++y)
           atomicOr(objRegions[region].occupancy[objOccupancyWord(y, z)],
                    row << objOccupancyShift(y));
-    } else {
-      uint slot = atomicAdd(objRegions[region].cursor, 1u);
-      if (slot < objRegions[region].count)
-        objList[objRegions[region].start + slot] = objListEntry(
-            i, vec3(inst.boundsMin.x, inst.boundsMin.y, inst.boundsMin.z),
-            vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z), lo, ro.w);
+      continue;
     }
+    uvec4 entry = objListEntry(i, bmin, bmax, lo, ro.w);
+    if (pc.phase == 4u) {
+      uint wideCount = objRegions[region].wide;
+      uint at = wide ? atomicAdd(objRegions[region].wideCursor, 1u)
+                     : wideCount + atomicAdd(objRegions[region].cursor, 1u);
+      if (at < objRegions[region].count) objList[objRegions[region].start + at] = entry;
+    }
+    uint base = objRegions[region].subBase;
+    if (wide || base == kNoSubLists) continue;
+    for (int z = sr.lo.z; z <= sr.hi.z; ++z)
+      for (int y = sr.lo.y; y <= sr.hi.y; ++y)
+        for (int x = sr.lo.x; x <= sr.hi.x; ++x) {
+          uint h = base + objSubRank(region, uint(x + 8 * y + 64 * z));
+          if (pc.phase == 2u) {
+            atomicAdd(objList[h].y, 1u);
+          } else {
+            uint slot = atomicAdd(objList[h].z, 1u);
+            if (slot < objList[h].y) objList[objList[h].x + slot] = entry;
+          }
+        }
   }
 }

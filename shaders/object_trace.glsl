@@ -221,50 +221,17 @@ uint objRowMask(int lo, int hi) { return ((2u << uint(hi)) - 1u) & ~((1u << uint
 uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
 uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
 
-// The part of [t0, t1] (the ray's stretch inside region `region`, whose box starts at rLo) that
-// crosses occupied sub-cells: a 3D DDA over the region's 8³ sub-cells (Amanatides & Woo), at
-// most 22 steps. Empty (x > y) when every sub-cell the ray crosses is empty: no listed object
-// can be hit there, so none is tested.
-vec2 objOccupiedSpan(uint region, vec3 o, vec3 d, float t0, float t1, vec3 rLo, float edge) {
-  float sub = edge / float(kSubCellsPerAxis);
-  vec2 span = vec2(1e30f, -1e30f);
-  float t = t0;
-  vec3 p = (o + d * t - rLo) / sub;
-  ivec3 cell = clamp(ivec3(floor(p)), ivec3(0), ivec3(7));
-  ivec3 stepDir = ivec3(d.x >= 0.0f ? 1 : -1, d.y >= 0.0f ? 1 : -1, d.z >= 0.0f ? 1 : -1);
-  vec3 tNext = vec3(1e30f);
-  vec3 tDelta = vec3(1e30f);
-  for (int a = 0; a < 3; ++a) {
-    if (abs(d[a]) > 1e-12f) {
-      float face = rLo[a] + (float(cell[a]) + (stepDir[a] > 0 ? 1.0f : 0.0f)) * sub;
-      tNext[a] = (face - o[a]) / d[a];
-      tDelta[a] = sub / abs(d[a]);
-    }
-  }
-  for (uint s = 0u; s < 24u; ++s) {
-    OBJ_COUNT(occupancySteps);
-    float exitT = min(tNext.x, min(tNext.y, tNext.z));
-    uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
-    if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
-      span.x = min(span.x, t);
-      span.y = max(span.y, exitT);
-    }
-    if (exitT >= t1) break;
-    t = exitT;
-    if (tNext.x <= tNext.y && tNext.x <= tNext.z) {
-      cell.x += stepDir.x;
-      tNext.x += tDelta.x;
-    } else if (tNext.y <= tNext.z) {
-      cell.y += stepDir.y;
-      tNext.y += tDelta.y;
-    } else {
-      cell.z += stepDir.z;
-      tNext.z += tDelta.z;
-    }
-    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x > 7 || cell.y > 7 || cell.z > 7) break;
-  }
-  span.y = min(span.y, t1);
-  return span;
+uint objSubCellCount(ObjSubRange r) {
+  return uint((r.hi.x - r.lo.x + 1) * (r.hi.y - r.lo.y + 1) * (r.hi.z - r.lo.z + 1));
+}
+
+// The sub-cell header index within its region of occupied sub-cell `bit` (object_layout.h):
+// the occupied sub-cells before it.
+uint objSubRank(uint region, uint bit) {
+  uint word = bit >> 5u;
+  uint before = (OBJ_REGION(region).rank[word >> 1u] >> (16u * (word & 1u))) & 0xffffu;
+  uint below = OBJ_REGION(region).occupancy[word] & ((1u << (bit & 31u)) - 1u);
+  return before + uint(bitCount(below));
 }
 
 // A region list entry (OBJ_LIST): x is the instance index, y..w its stack AABB within the
@@ -310,13 +277,95 @@ bool objInRegionGrid(uint c, vec3 p) {
   return q.x >= 0.0f && q.y >= 0.0f && q.z >= 0.0f && q.x <= 8.0f && q.y <= 8.0f && q.z <= 8.0f;
 }
 
+// One list entry against the ray's stretch [from, to] of its region: the instance's AABB first
+// (from the entry), before its grid maps and any SDF read; a little past `to`, so a surface
+// exactly on a face is not lost.
+ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, float from, float to,
+                       vec3 rLo, float edge) {
+  OBJ_COUNT(entriesTested);
+  float hiT = best.t >= 0.0f ? min(best.t, to + 1e-3f) : to + 1e-3f;
+  ObjListBox lb = objListEntryBox(entry, rLo, edge);
+  vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
+  if (max(box.x, from) > min(box.y, hiT)) return best;
+  OBJ_COUNT(boxesCrossed);
+  return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT));
+}
+
+// The ray's stretch [t0, t1] inside region `region` (box from rLo, edge `edge`): a 3D DDA over
+// its 8³ sub-cells (Amanatides & Woo; at most 22 steps) that tests, in each occupied sub-cell it
+// crosses, the instances listed for that sub-cell over the ray's part inside it (GS slides b,
+// "Split into smaller SDFs and combine with DDA": the bitfield looks up empty cells beforehand,
+// so the DDA never taps into empty space). Every surface point lies in the sub-cell that holds
+// it, inside the AABB of its instance, which that sub-cell lists: the first sub-cell with a hit
+// holds the nearest one, and `best` (which may hold a wide instance's hit already) is returned
+// as soon as the walk passes it. Without sub-cell lists (kNoSubLists) the first occupied sub-cell
+// tests the region's entries after the wide ones over the rest of the stretch.
+ObjectHit objWalkSubCells(ObjectHit best, uint region, vec3 o, vec3 d, vec3 inv, float t0,
+                          float t1, vec3 rLo, float edge) {
+  float sub = edge / float(kSubCellsPerAxis);
+  uint subBase = OBJ_REGION(region).subBase;
+  float t = t0;
+  vec3 p = (o + d * t - rLo) / sub;
+  ivec3 cell = clamp(ivec3(floor(p)), ivec3(0), ivec3(7));
+  ivec3 stepDir = ivec3(d.x >= 0.0f ? 1 : -1, d.y >= 0.0f ? 1 : -1, d.z >= 0.0f ? 1 : -1);
+  vec3 tNext = vec3(1e30f);
+  vec3 tDelta = vec3(1e30f);
+  for (int a = 0; a < 3; ++a) {
+    if (abs(d[a]) > 1e-12f) {
+      float face = rLo[a] + (float(cell[a]) + (stepDir[a] > 0 ? 1.0f : 0.0f)) * sub;
+      tNext[a] = (face - o[a]) / d[a];
+      tDelta[a] = sub / abs(d[a]);
+    }
+  }
+  bool crossed = false;
+  for (uint s = 0u; s < 24u; ++s) {
+    OBJ_COUNT(occupancySteps);
+    float exitT = min(min(tNext.x, min(tNext.y, tNext.z)), t1);
+    uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
+    if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
+      if (!crossed) {
+        OBJ_COUNT(occupiedRegions);
+      }
+      crossed = true;
+      // A hair before the sub-cell's entry: rounding at its face must not skip a surface there.
+      float from = max(t0, t - 1e-4f * edge);
+      if (subBase == kNoSubLists) {
+        uint start = OBJ_REGION(region).start;
+        for (uint k = OBJ_REGION(region).wide; k < OBJ_REGION(region).count; ++k)
+          best = objTestEntry(best, OBJ_LIST(start + k), o, d, inv, from, t1, rLo, edge);
+        return best;
+      }
+      OBJ_COUNT(occupiedCells);
+      uvec4 header = OBJ_LIST(subBase + objSubRank(region, bit));
+      for (uint k = 0u; k < header.y; ++k)
+        best = objTestEntry(best, OBJ_LIST(header.x + k), o, d, inv, from, exitT, rLo, edge);
+    }
+    if (best.t >= 0.0f && best.t <= exitT + 1e-3f) return best;
+    if (exitT >= t1) break;
+    t = exitT;
+    if (tNext.x <= tNext.y && tNext.x <= tNext.z) {
+      cell.x += stepDir.x;
+      tNext.x += tDelta.x;
+    } else if (tNext.y <= tNext.z) {
+      cell.y += stepDir.y;
+      tNext.y += tDelta.y;
+    } else {
+      cell.z += stepDir.z;
+      tNext.z += tDelta.z;
+    }
+    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x > 7 || cell.y > 7 || cell.z > 7) break;
+  }
+  return best;
+}
+
 // DDA over the macro regions (finest cascade holding the current point), tracing the instances
-// listed in each non-empty region over the ray's stretch inside it. A surface point in region R
-// lies inside every listed instance's OBB that contains it, so the first region with a hit holds
-// the nearest one. Regions cover the first OBJ_FRAME.counts.y cascades only: beyond them the
-// ray sees no objects. Like the static traversal of a probe (sdfTraceStackFrom), a ray uses the
-// regions of firstCascade and coarser only, so a coarse probe sees the objects the size rule
-// lists for its cascade.
+// listed in each non-empty region over the ray's stretch inside it: the wide ones once, the
+// rest sub-cell by sub-cell (objWalkSubCells). A surface point in region R lies inside every
+// listed instance's OBB that contains it, so the first region with a hit holds the nearest one.
+// Regions cover the first OBJ_FRAME.counts.y cascades only: beyond them the ray sees no objects.
+// Like the static traversal of a probe (sdfTraceStackFrom), a ray uses the regions of
+// firstCascade and coarser only, so a coarse probe sees the objects the size rule lists for its
+// cascade.
 ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
   ObjectHit best = objMiss();
   uint cascades = OBJ_FRAME.counts.y;
@@ -353,26 +402,14 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     float segEnd = min(exitT, tEnd);
     uint regionIndex = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
     uint count = OBJ_REGION(regionIndex).count;
-    // Only the stretch that crosses occupied sub-cells can hold a hit (every listed instance's
-    // AABB is inside them), with a hair of slack at both ends for rounding.
-    vec2 occupied =
-        count > 0u ? objOccupiedSpan(regionIndex, o, d, t, segEnd, rLo, ro.w) : vec2(1.0f, 0.0f);
-    float from = max(t, occupied.x - 1e-4f * ro.w);
-    uint start = OBJ_REGION(regionIndex).start;
-    if (count > 0u) OBJ_COUNT(listedRegions);
-    if (occupied.x <= occupied.y) OBJ_COUNT(occupiedRegions);
-    for (uint k = 0u; k < count && occupied.x <= occupied.y; ++k) {
-      OBJ_COUNT(entriesTested);
-      uvec4 entry = OBJ_LIST(start + k);
-      uint i = entry.x;
-      // A little past the stretch's end, so a surface exactly on a face is not lost.
-      float hiT = best.t >= 0.0f ? min(best.t, occupied.y + 1e-3f) : occupied.y + 1e-3f;
-      // The instance's AABB first (from the entry), before its grid maps and any SDF read.
-      ObjListBox lb = objListEntryBox(entry, rLo, ro.w);
-      vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
-      if (max(box.x, from) > min(box.y, hiT)) continue;
-      OBJ_COUNT(boxesCrossed);
-      best = objNearer(best, objTraceInstance(i, o, d, from, hiT));
+    if (count > 0u) {
+      OBJ_COUNT(listedRegions);
+      uint start = OBJ_REGION(regionIndex).start;
+      uint wide = OBJ_REGION(regionIndex).wide;
+      for (uint k = 0u; k < wide; ++k)
+        best = objTestEntry(best, OBJ_LIST(start + k), o, d, inv, t, segEnd, rLo, ro.w);
+      if (count > wide)
+        best = objWalkSubCells(best, regionIndex, o, d, inv, t, segEnd, rLo, ro.w);
     }
     if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;
     t = max(exitT, t + 1e-4f * ro.w);

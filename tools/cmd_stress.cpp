@@ -64,7 +64,7 @@ std::optional<glm::dvec3> parseCamera(const Args& args) {
 const char* kHelp =
     "usage: sdfstream stress WORLD [--objects LIST] [--frames N] [--warmup N] [--out DIR]\n"
     "                        [--seed S] [--no-naive] [--naive-max N] [--no-cards-peer]\n"
-    "                        [--meshes N] [--sun-orbit DEG]\n"
+    "                        [--meshes N] [--sun-orbit DEG] [--sub-list-entries N]\n"
     "                        [--device NAME]\n"
     "                        [--validation] [options]\n"
     "\n"
@@ -107,6 +107,9 @@ const char* kHelp =
     "  --sun-orbit DEG    turn the sun about the vertical by DEG degrees every frame (default 0:\n"
     "                     still); every frame is then a light change (for the probes a drift\n"
     "                     that wakes none, up to 1 degree a frame)\n"
+    "  --sub-list-entries N  sub-cell list capacity per frame, headers and as many entries\n"
+    "                     (default 1048576); 0 walks every region with its region list alone,\n"
+    "                     the walk without sub-cell lists to compare with\n"
     "  --cascades N       cascades (default 6, at most the pack's LOD count)\n"
     "  --camera x,y,z     camera position (default: above the centre of the world's bounds,\n"
     "                     2 m over the surface below it); it looks along -z, slightly down\n"
@@ -127,7 +130,7 @@ int runStress(int argc, char** argv) {
   Args args(argc, argv, 2,
             {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
              "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays",
-             "--probe-budget", "--sun", "--sky", "--meshes", "--sun-orbit"},
+             "--probe-budget", "--sun", "--sky", "--meshes", "--sun-orbit", "--sub-list-entries"},
             {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
@@ -160,6 +163,8 @@ int runStress(int argc, char** argv) {
   o.cascades = args.integer("--cascades", o.cascades, 1, 8);
   const RenderOptions render = renderOptionsFromArgs(args, false, 1, kProbeBudgetOfDevice);
   o.settings = render.renderer.settings;
+  o.settings.objects.maxSubListEntries = std::uint32_t(
+      args.integer("--sub-list-entries", int(o.settings.objects.maxSubListEntries), 0, 1 << 24));
   o.lights = render.lights;
   o.device = *deviceFromArgs(args);  // no --cpu: the objects need Vulkan
   o.command = commandLine(argc, argv, 0);

@@ -58,21 +58,37 @@ SDF_CONST uint kCardLightLevelShift = 30u;        // info.w >> shift: its level 
 
 SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) this frame
 
+// Sub-cell lists: an instance whose AABB touches at most kSubListMaxCells sub-cells of a region
+// is also listed once per sub-cell it touches, so a ray tests only the objects of the occupied
+// sub-cells it crosses. Larger ones ("wide") are tested once per region instead (their copies
+// would grow with their volume). A region's occupied sub-cell k (k = rank of its bit among the
+// region's occupancy bits) has a header uvec4 at OBJ_LIST(subBase + k): x first entry in OBJ_LIST,
+// y entries, z fill cursor, w 0; the entries are objListEntry records of the region.
+SDF_CONST uint kSubListMaxCells = 64;
+SDF_CONST uint kNoSubLists = 0xffffffffu;  // subBase when the lists did not fit: walk the region
+
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
-  uint count;                       // instances listed
-  uint start;                       // first entry in OBJ_LIST (uvec4 each: objListEntry)
-  uint moved;                       // nonzero: some wake bit below is set
-  uint cursor;                      // fill pass scratch
-  uint occupancy[kOccupancyWords];  // sub-cells the listed instances' AABBs touch (bit above)
+  uint count;       // instances listed: the `wide` ones first, then the rest
+  uint start;       // first entry in OBJ_LIST (uvec4 each: objListEntry)
+  uint moved;       // nonzero: some wake bit below is set
+  uint cursor;      // fill pass scratch (entries after the wide ones)
+  uint wide;        // listed instances touching more than kSubListMaxCells sub-cells
+  uint wideCursor;  // fill pass scratch
+  uint subBase;     // OBJ_LIST index of the first sub-cell header, or kNoSubLists
+  uint subStart;    // count pass: sub-cell entries; after the scan: the first one's OBJ_LIST index
+  // Sub-cells the AABBs of the listed instances that are not wide touch (bit above).
+  uint occupancy[kOccupancyWords];
   // Sub-cells (same bits) within wake distance of an instance that moved, appeared or vanished
   // this frame (old and new poses; host-built, gi/object_frame.h): a probe there turns vigilant.
   uint wake[kOccupancyWords];
+  // Occupied sub-cells before occupancy word w: bits 16 (w % 2) .. +15 of rank[w / 2].
+  uint rank[kOccupancyWords / 2];
 };
 
 // Frame constants (ObjectMeta::frame, host-written each frame).
 struct ObjectFrameGpu {
-  uvec4 counts;  // x: instances; y: region cascades K (<= kMaxRegionCascades); z: list
+  uvec4 counts;  // x: instances; y: region cascades K (<= kMaxRegionCascades); z: region list
                  // capacity (entries); w: meshes
   vec4 regionOrigin[kMaxRegionCascades];  // xyz: cascade c's min corner in stack space;
                                           // w: its region edge in stack voxels (16 · 2^c)
@@ -83,12 +99,18 @@ struct ObjectFrameGpu {
                    // in grid voxels; z: max sphere-tracing steps per object segment; w: 0
 };
 
-// Push constants of object_regions.comp (count / scan / fill share one layout).
+// Push constants of object_regions.comp (every phase shares one layout). OBJ_LIST holds the
+// region lists' `capacity` entries, then `subCapacity` sub-cell headers, then `subCapacity`
+// sub-cell entries.
 struct ObjectRegionPush {
-  uint phase;  // 0 count, 1 scan, 2 fill
+  uint phase;  // 0 count, 1 scan, 2 sub-cell count, 3 sub-cell scan, 4 fill
   uint instances;
   uint cascades;
   uint capacity;
+  uint subCapacity;
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 
 // One ray's result of object_trace.comp (tests and the stress benchmark).
@@ -116,9 +138,9 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 144);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 192);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 16);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTracePush) == 16);
 static_assert(sdfstream::gpu_shared::kRegionCells * sdfstream::gpu_shared::kRegionsPerAxis == 128);

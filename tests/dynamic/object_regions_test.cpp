@@ -2,7 +2,8 @@
 // (every region × every instance, ObjectSceneCpu), for random instance sets including objects
 // spanning many regions and objects outside every cascade (issue 7 "Must show"); plus an
 // independent check that needs no shared code: points sampled inside each object's grid box
-// must find the object listed in the region that holds them.
+// must find the object listed in the region that holds them, and in the list of the sub-cell
+// that holds them unless the object is one of the region's wide ones.
 #include <algorithm>
 #include <bit>
 #include <random>
@@ -31,6 +32,55 @@ std::vector<std::vector<std::uint32_t>> gpuLists(const ObjectScene& scene) {
     std::sort(out[r].begin(), out[r].end());
   }
   return out;
+}
+
+// The sub-cell lists (object_layout.h): per region the wide count, the occupancy ranks and, for
+// every occupied sub-cell, the instances listed there equal the brute-force lists of the CPU
+// reference; the wide entries come first in the region list.
+void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
+                             const std::vector<glm::uvec4>& entryData, const ObjectSceneCpu& cpu) {
+  std::size_t wideDiffer = 0, rankDiffer = 0, listsDiffer = 0, withoutLists = 0, subLists = 0,
+              subEntries = 0, wideEntries = 0, wideFirst = 0;
+  for (std::uint32_t r = 0; r < regions.size(); ++r) {
+    const gs::ObjectRegionGpu& g = regions[r];
+    const gs::ObjectRegionGpu& want = cpu.regions()[r];
+    wideDiffer += g.wide != want.wide ? 1 : 0;
+    wideEntries += g.wide;
+    // Wide entries first: their instances are the CPU's wide ones (those not in any sub-cell).
+    std::set<std::uint32_t> inSubCells;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords / 2; ++w)
+      rankDiffer += g.rank[w] != want.rank[w] ? 1 : 0;
+    if (g.subBase == gs::kNoSubLists) {
+      withoutLists += g.count > g.wide ? 1 : 0;
+      continue;
+    }
+    for (std::uint32_t bit = 0; bit < 512; ++bit) {
+      if ((g.occupancy[bit / 32] >> (bit % 32) & 1u) == 0) continue;
+      std::uint32_t rank = (g.rank[bit / 64] >> (16 * (bit / 32 % 2))) & 0xffffu;
+      rank += std::uint32_t(std::popcount(g.occupancy[bit / 32] & ((1u << (bit % 32)) - 1u)));
+      const glm::uvec4 header = entryData.at(g.subBase + rank);
+      std::vector<std::uint32_t> got;
+      for (std::uint32_t k = 0; k < header.y; ++k) got.push_back(entryData.at(header.x + k).x);
+      std::sort(got.begin(), got.end());
+      listsDiffer += got != cpu.subCellInstances(r, bit) ? 1 : 0;
+      inSubCells.insert(got.begin(), got.end());
+      ++subLists;
+      subEntries += got.size();
+    }
+    for (std::uint32_t k = 0; k < g.count; ++k)
+      wideFirst += (k < g.wide) == inSubCells.contains(entryData.at(g.start + k).x) ? 1 : 0;
+  }
+  std::printf(
+      "[figures] sub-cell lists: %zu lists, %zu entries, %zu wide entries; %zu regions without "
+      "lists; %zu wide counts, %zu rank words, %zu lists differ; %zu entries out of order\n",
+      subLists, subEntries, wideEntries, withoutLists, wideDiffer, rankDiffer, listsDiffer,
+      wideFirst);
+  EXPECT_GT(subLists, 0u);
+  EXPECT_EQ(withoutLists, 0u) << "the host sizes the sub-cell lists so that they always fit";
+  EXPECT_EQ(wideDiffer, 0u);
+  EXPECT_EQ(rankDiffer, 0u);
+  EXPECT_EQ(listsDiffer, 0u);
+  EXPECT_EQ(wideFirst, 0u);
 }
 
 std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects& objects,
@@ -110,6 +160,7 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   EXPECT_EQ(occupancyDiffer, 0u);
   EXPECT_GT(occupiedBits, 0u);
   EXPECT_GT(entries, 0u);
+  expectSubCellListsEqual(regions, entryData, cpu);
   return spanning;
 }
 
@@ -161,7 +212,8 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   const auto& frame = gpu.frame();
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::size_t checked = 0, missing = 0, unoccupied = 0;
+  const std::vector<glm::uvec4> entryData = gpu.downloadLists();
+  std::size_t checked = 0, missing = 0, unoccupied = 0, notInSubCell = 0, wideChecked = 0;
   for (std::uint32_t i = 0; i < frame.instances.size(); ++i) {
     const auto& inst = frame.instances[i];
     const glm::vec3 hi = glm::vec3(objects.library.mesh(inst.info.x).dims - 1u);
@@ -181,21 +233,43 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
         const auto& list = lists[g];
         ++checked;
         if (!std::binary_search(list.begin(), list.end(), i)) ++missing;
-        // ... and lies in an occupied sub-cell of that region.
+        // ... and is one of the region's wide instances, or lies in an occupied sub-cell of
+        // that region whose sub-cell list holds it.
+        const gs::ObjectRegionGpu& region = regions[g];
+        bool wide = false;
+        for (std::uint32_t k = 0; k < region.wide; ++k)
+          wide = wide || entryData.at(region.start + k).x == i;
+        if (wide) {
+          ++wideChecked;
+          continue;
+        }
         const glm::ivec3 sc = glm::clamp(glm::ivec3(glm::floor((q - glm::vec3(r)) * 8.0f)),
                                          glm::ivec3(0), glm::ivec3(7));
         const std::uint32_t bit = std::uint32_t(sc.x + 8 * sc.y + 64 * sc.z);
-        if (!(regions[g].occupancy[bit / 32] & (1u << (bit % 32)))) ++unoccupied;
+        if (!(region.occupancy[bit / 32] & (1u << (bit % 32)))) {
+          ++unoccupied;
+          continue;
+        }
+        std::uint32_t rank = (region.rank[bit / 64] >> (16 * (bit / 32 % 2))) & 0xffffu;
+        rank +=
+            std::uint32_t(std::popcount(region.occupancy[bit / 32] & ((1u << (bit % 32)) - 1u)));
+        const glm::uvec4 header = entryData.at(region.subBase + rank);
+        bool listed = false;
+        for (std::uint32_t k = 0; k < header.y; ++k)
+          listed = listed || entryData.at(header.x + k).x == i;
+        if (!listed) ++notInSubCell;
       }
     }
   }
   std::printf(
-      "[figures] %zu sampled points inside objects, %zu not listed in their region, %zu in an "
-      "empty sub-cell\n",
-      checked, missing, unoccupied);
+      "[figures] %zu sampled points inside objects, %zu not listed in their region, %zu of a "
+      "wide instance, %zu in an empty sub-cell, %zu not in their sub-cell's list\n",
+      checked, missing, wideChecked, unoccupied, notInSubCell);
   EXPECT_GT(checked, 1000u);
+  EXPECT_GT(checked, wideChecked + 500u) << "most points must exercise the sub-cell lists";
   EXPECT_EQ(missing, 0u);
   EXPECT_EQ(unoccupied, 0u);
+  EXPECT_EQ(notInSubCell, 0u);
 }
 
 // Each change's wake box in stack space, written out here from the rule in ObjectSceneSettings:
@@ -460,7 +534,7 @@ TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
   objects.addRandom(stack, 3, 5.0, 1);
   gpu.update(objects.library, objects.instances, stack);
   EXPECT_TRUE(gpu.active());
-  EXPECT_EQ(gpu.lastTimings().size(), 3u);
+  EXPECT_EQ(gpu.lastTimings().size(), std::size_t(ObjectScene::kRegionPasses));
 }
 
 }  // namespace

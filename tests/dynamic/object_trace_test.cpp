@@ -73,14 +73,29 @@ Agreement compare(std::span<const gs::ObjectTraceHit> a, std::span<const gs::Obj
   return g;
 }
 
-TEST_F(ObjectTraceTest, RegionTraversalEqualsBruteForceNearestHit) {
+void expectTraversalEqualsBruteForce(gpu::Context& context, std::uint32_t subListEntries) {
   const CascadeStackImage stack = test::windowsOnlyStack(3);
   test::RandomObjects objects;
   objects.addRandom(stack, 400, 25.0, 21);
   ObjectSceneSettings settings;
   settings.sizeRule = 0.0f;
-  ObjectScene gpu(ctx(), settings);
+  settings.maxSubListEntries = subListEntries;
+  ObjectScene gpu(context, settings);
   gpu.update(objects.library, objects.instances, stack);
+  std::size_t withLists = 0, withoutLists = 0;
+  for (const gs::ObjectRegionGpu& r : gpu.downloadRegions()) {
+    if (r.count == r.wide) continue;
+    (r.subBase == gs::kNoSubLists ? withoutLists : withLists) += 1;
+  }
+  std::printf(
+      "[figures] sub-cell list capacity %u: %zu regions walked with sub-cell lists, %zu "
+      "without\n",
+      subListEntries, withLists, withoutLists);
+  EXPECT_GT(withLists, 0u);
+  if (subListEntries == ObjectSceneSettings{}.maxSubListEntries)
+    EXPECT_EQ(withoutLists, 0u);
+  else
+    EXPECT_GT(withoutLists, 0u);
   ObjectSceneCpu cpu(objects.library, objects.instances, stack, settings);
 
   const auto rays = randomRays(4096, glm::vec3(-20.0f), glm::vec3(148.0f), 400.0f, 3);
@@ -117,6 +132,12 @@ TEST_F(ObjectTraceTest, RegionTraversalEqualsBruteForceNearestHit) {
   }
 }
 
+// Also with sub-cell lists too small for the frame: the regions past the capacity are walked
+// with their region lists alone (kNoSubLists), and must still find the nearest hit.
+TEST_F(ObjectTraceTest, RegionTraversalEqualsBruteForceNearestHit) {
+  for (std::uint32_t subListEntries : {ObjectSceneSettings{}.maxSubListEntries, 3000u})
+    expectTraversalEqualsBruteForce(ctx(), subListEntries);
+}
 // Exact ray / oriented-box intersection for the box mesh (half extents h) under a pose; also the
 // cosine between the ray and the face it enters (world space), to tell grazing rays apart.
 struct BoxHit {
@@ -251,12 +272,14 @@ TEST(ObjectWalkCost, CountsAtTheStressDensitiesAndTheWalkEqualsBruteForce) {
     const double rays = double(counts.rays);
     std::printf(
         "[figures] %u movers, %llu rays: per ray %.2f region steps, %.2f listed regions, %.2f "
-        "crossing occupied sub-cells, %.1f occupancy steps, %.1f entries tested, %.2f boxes "
-        "crossed; %zu hits, %zu hit/miss disagreements, worst |dt| %.3f object voxel\n",
+        "crossing occupied sub-cells, %.1f occupancy steps, %.2f sub-cell lists read, %.1f "
+        "entries tested, %.2f boxes crossed; %zu hits, %zu hit/miss disagreements, worst |dt| "
+        "%.3f object voxel\n",
         count, (unsigned long long)counts.rays, double(counts.regionSteps) / rays,
         double(counts.listedRegions) / rays, double(counts.occupiedRegions) / rays,
-        double(counts.occupancySteps) / rays, double(counts.entriesTested) / rays,
-        double(counts.boxesCrossed) / rays, g.hits, g.hitMiss, g.worstT);
+        double(counts.occupancySteps) / rays, double(counts.occupiedCells) / rays,
+        double(counts.entriesTested) / rays, double(counts.boxesCrossed) / rays, g.hits, g.hitMiss,
+        g.worstT);
     EXPECT_EQ(counts.rays, 2000u);
     EXPECT_EQ(g.hitMiss, 0u) << count;
     EXPECT_EQ(g.otherObject, 0u) << count;
@@ -266,9 +289,11 @@ TEST(ObjectWalkCost, CountsAtTheStressDensitiesAndTheWalkEqualsBruteForce) {
     EXPECT_LE(counts.boxesCrossed, counts.entriesTested);
     entriesPerRay.push_back(double(counts.entriesTested) / rays);
   }
-  // Denser scenes list more per region: the tests a ray pays grow with the movers.
+  // Denser scenes list more per sub-cell: the tests a ray pays grow with the movers, but only
+  // with the objects near the ray (a region list at 10,000 movers made it test 65 entries).
   EXPECT_LT(entriesPerRay[0], entriesPerRay[1]);
   EXPECT_LT(entriesPerRay[1], entriesPerRay[2]);
+  EXPECT_LT(entriesPerRay[2], 12.0) << "the walk must test the sub-cells' lists, not the regions'";
 }
 
 }  // namespace
