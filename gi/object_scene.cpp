@@ -33,6 +33,8 @@ ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
       settings_(settings),
       regionsPipeline_(context, gpu::ShaderId::object_regions,
                        gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush), kGroup}),
+      scanPipeline_(context, gpu::ShaderId::object_regions_scan,
+                    gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush), glm::uvec3(256, 1, 1)}),
       tracePipeline_(context, gpu::ShaderId::object_trace,
                      gpu::PipelineDesc{10, sizeof(gs::ObjectTracePush), kGroup}),
       meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
@@ -236,8 +238,8 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const glm::uvec3 perInstance(64u * n, cascades, 1u);
   batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push, perInstance);
   push.phase = 1u;
-  batch.dispatch("object_regions_scan", regionsPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(64u, 1u, 1u));
+  batch.dispatch("object_regions_scan", scanPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(256u, 1u, 1u));
   push.phase = 2u;
   batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
                  perInstance);

@@ -135,7 +135,7 @@ class ObjectScene {
 
   gpu::Context& context_;
   ObjectSceneSettings settings_;
-  gpu::ComputePipeline regionsPipeline_, tracePipeline_;
+  gpu::ComputePipeline regionsPipeline_, scanPipeline_, tracePipeline_;
   // Device-local; meta, instances and the regions' initial state are written every frame
   // through the staging ring.
   gpu::Buffer meta_, instances_, regions_, lists_, distance_, material_;

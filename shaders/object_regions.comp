@@ -12,10 +12,10 @@
 //                instance (more than kSubListMaxCells sub-cells) the wide count, else the
 //                sub-cells it touches into the occupancy bitfield and its sub-cell entries (the
 //                wake bits, which need the instances' old poses too, come from the host);
-//   1 scan:      one workgroup turns the counts into list starts (exclusive prefix sums of the
-//                entries, the occupied sub-cells and the sub-cell entries), clamped to the
-//                capacities the host sized from the same AABB ranges, and ranks the occupancy
-//                words;
+//   1 scan:      object_regions_scan.comp, one workgroup: the counts into list starts
+//                (exclusive prefix sums of the entries, the occupied sub-cells and the sub-cell
+//                entries), clamped to the capacities the host sized from the same AABB ranges,
+//                and the occupancy words' ranks;
 //   2 sub-count: as 0, counting each non-wide instance into the headers of its sub-cells;
 //   3 sub-scan:  workgroup per region: its headers' counts into entry starts;
 //   4 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
@@ -33,56 +33,12 @@ layout(push_constant) uniform Push { ObjectRegionPush pc; };
 
 layout(local_size_x = 64) in;
 
-shared uvec3 partial[64];
+shared uint partial[64];
 
 uint occupiedSubCells(uint r) {
   uint n = 0u;
   for (uint w = 0u; w < kOccupancyWords; ++w) n += uint(bitCount(objRegions[r].occupancy[w]));
   return n;
-}
-
-void scanRegions() {
-  uint total = pc.cascades * kRegionsPerCascade;
-  uint chunk = (total + 63u) / 64u;
-  uint lid = gl_LocalInvocationID.x;
-  uint begin = min(lid * chunk, total);
-  uint end = min(begin + chunk, total);
-  // x: list entries, y: sub-cell headers (occupied sub-cells), z: sub-cell entries.
-  uvec3 sum = uvec3(0u);
-  for (uint r = begin; r < end; ++r)
-    sum += uvec3(objRegions[r].count, occupiedSubCells(r), objRegions[r].subStart);
-  partial[lid] = sum;
-  barrier();
-  if (lid == 0u) {
-    uvec3 run = uvec3(0u);
-    for (uint k = 0u; k < 64u; ++k) {
-      uvec3 v = partial[k];
-      partial[k] = run;
-      run += v;
-    }
-  }
-  barrier();
-  uvec3 at = partial[lid];
-  for (uint r = begin; r < end; ++r) {
-    uint n = objRegions[r].count;
-    uint s = min(at.x, pc.capacity);
-    objRegions[r].start = s;
-    objRegions[r].count = min(n, pc.capacity - s);  // never past the list (host sizes it so)
-    objRegions[r].wide = min(objRegions[r].wide, objRegions[r].count);
-    objRegions[r].cursor = 0u;
-    objRegions[r].wideCursor = 0u;
-    uint rank = 0u;
-    for (uint w = 0u; w < kOccupancyWords; w += 2u) {
-      uint next = rank + uint(bitCount(objRegions[r].occupancy[w]));
-      objRegions[r].rank[w / 2u] = rank | (next << 16u);
-      rank = next + uint(bitCount(objRegions[r].occupancy[w + 1u]));
-    }
-    uint entries = objRegions[r].subStart;
-    bool fits = at.y + rank <= pc.subCapacity && at.z + entries <= pc.subCapacity;
-    objRegions[r].subBase = fits ? pc.capacity + at.y : kNoSubLists;
-    objRegions[r].subStart = pc.capacity + pc.subCapacity + min(at.z, pc.subCapacity);
-    at += uvec3(n, rank, entries);
-  }
 }
 
 // Phase 3, one workgroup per region: the region's headers (in rank order) get their entries'
@@ -98,18 +54,18 @@ void scanSubCells() {
   uint end = min(begin + 8u, n);
   uint sum = 0u;
   for (uint h = begin; h < end; ++h) sum += objList[base + h].y;
-  partial[lid] = uvec3(sum, 0u, 0u);
+  partial[lid] = sum;
   barrier();
   if (lid == 0u) {
     uint run = 0u;
     for (uint k = 0u; k < 64u; ++k) {
-      uint v = partial[k].x;
-      partial[k].x = run;
+      uint v = partial[k];
+      partial[k] = run;
       run += v;
     }
   }
   barrier();
-  uint at = objRegions[r].subStart + partial[lid].x;
+  uint at = objRegions[r].subStart + partial[lid];
   for (uint h = begin; h < end; ++h) {
     objList[base + h].x = at;
     objList[base + h].z = 0u;
@@ -118,10 +74,6 @@ void scanSubCells() {
 }
 
 void main() {
-  if (pc.phase == 1u) {
-    scanRegions();
-    return;
-  }
   if (pc.phase == 3u) {
     scanSubCells();
     return;

@@ -291,81 +291,23 @@ ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, fl
   return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT));
 }
 
-// The ray's stretch [t0, t1] inside region `region` (box from rLo, edge `edge`): a 3D DDA over
-// its 8³ sub-cells (Amanatides & Woo; at most 22 steps) that tests, in each occupied sub-cell it
-// crosses, the instances listed for that sub-cell over the ray's part inside it (GS slides b,
-// "Split into smaller SDFs and combine with DDA": the bitfield looks up empty cells beforehand,
-// so the DDA never taps into empty space). Every surface point lies in the sub-cell that holds
-// it, inside the AABB of its instance, which that sub-cell lists: the first sub-cell with a hit
-// holds the nearest one, and `best` (which may hold a wide instance's hit already) is returned
-// as soon as the walk passes it. Without sub-cell lists (kNoSubLists) the first occupied sub-cell
-// tests the region's entries after the wide ones over the rest of the stretch.
-ObjectHit objWalkSubCells(ObjectHit best, uint region, vec3 o, vec3 d, vec3 inv, float t0,
-                          float t1, vec3 rLo, float edge) {
-  float sub = edge / float(kSubCellsPerAxis);
-  uint subBase = OBJ_REGION(region).subBase;
-  float t = t0;
-  vec3 p = (o + d * t - rLo) / sub;
-  ivec3 cell = clamp(ivec3(floor(p)), ivec3(0), ivec3(7));
-  ivec3 stepDir = ivec3(d.x >= 0.0f ? 1 : -1, d.y >= 0.0f ? 1 : -1, d.z >= 0.0f ? 1 : -1);
-  vec3 tNext = vec3(1e30f);
-  vec3 tDelta = vec3(1e30f);
-  for (int a = 0; a < 3; ++a) {
-    if (abs(d[a]) > 1e-12f) {
-      float face = rLo[a] + (float(cell[a]) + (stepDir[a] > 0 ? 1.0f : 0.0f)) * sub;
-      tNext[a] = (face - o[a]) / d[a];
-      tDelta[a] = sub / abs(d[a]);
-    }
-  }
-  bool crossed = false;
-  for (uint s = 0u; s < 24u; ++s) {
-    OBJ_COUNT(occupancySteps);
-    float exitT = min(min(tNext.x, min(tNext.y, tNext.z)), t1);
-    uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
-    if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
-      if (!crossed) {
-        OBJ_COUNT(occupiedRegions);
-      }
-      crossed = true;
-      // A hair before the sub-cell's entry: rounding at its face must not skip a surface there.
-      float from = max(t0, t - 1e-4f * edge);
-      if (subBase == kNoSubLists) {
-        uint start = OBJ_REGION(region).start;
-        for (uint k = OBJ_REGION(region).wide; k < OBJ_REGION(region).count; ++k)
-          best = objTestEntry(best, OBJ_LIST(start + k), o, d, inv, from, t1, rLo, edge);
-        return best;
-      }
-      OBJ_COUNT(occupiedCells);
-      uvec4 header = OBJ_LIST(subBase + objSubRank(region, bit));
-      for (uint k = 0u; k < header.y; ++k)
-        best = objTestEntry(best, OBJ_LIST(header.x + k), o, d, inv, from, exitT, rLo, edge);
-    }
-    if (best.t >= 0.0f && best.t <= exitT + 1e-3f) return best;
-    if (exitT >= t1) break;
-    t = exitT;
-    if (tNext.x <= tNext.y && tNext.x <= tNext.z) {
-      cell.x += stepDir.x;
-      tNext.x += tDelta.x;
-    } else if (tNext.y <= tNext.z) {
-      cell.y += stepDir.y;
-      tNext.y += tDelta.y;
-    } else {
-      cell.z += stepDir.z;
-      tNext.z += tDelta.z;
-    }
-    if (cell.x < 0 || cell.y < 0 || cell.z < 0 || cell.x > 7 || cell.y > 7 || cell.z > 7) break;
-  }
-  return best;
-}
-
 // DDA over the macro regions (finest cascade holding the current point), tracing the instances
-// listed in each non-empty region over the ray's stretch inside it: the wide ones once, the
-// rest sub-cell by sub-cell (objWalkSubCells). A surface point in region R lies inside every
-// listed instance's OBB that contains it, so the first region with a hit holds the nearest one.
-// Regions cover the first OBJ_FRAME.counts.y cascades only: beyond them the ray sees no objects.
-// Like the static traversal of a probe (sdfTraceStackFrom), a ray uses the regions of
-// firstCascade and coarser only, so a coarse probe sees the objects the size rule lists for its
-// cascade.
+// listed in each non-empty region over the ray's stretch inside it. A surface point in region R
+// lies inside every listed instance's OBB that contains it, so the first region with a hit holds
+// the nearest one. Regions cover the first OBJ_FRAME.counts.y cascades only: beyond them the ray
+// sees no objects. Like the static traversal of a probe (sdfTraceStackFrom), a ray uses the
+// regions of firstCascade and coarser only, so a coarse probe sees the objects the size rule
+// lists for its cascade.
+// Inside a region the entries come in runs, each tested over its own stretch of the ray: first
+// the wide instances over the whole stretch, then, from a 3D DDA over the region's 8³ sub-cells
+// (Amanatides & Woo, at most 22 steps; GS slides b, "Split into smaller SDFs and combine with
+// DDA": the bitfield looks up empty cells beforehand, so the DDA never taps into empty space),
+// the list of each occupied sub-cell the ray crosses, over the ray's part inside it. Every
+// surface point lies in the sub-cell that holds it, inside its instance's AABB, which that
+// sub-cell lists: the walk returns at the first sub-cell that holds a hit. Without sub-cell
+// lists (kNoSubLists) the first occupied sub-cell's run is every entry after the wide ones,
+// over the rest of the stretch. One call site of objTestEntry (and so of the inlined sphere
+// tracer) keeps the pass's code and registers small.
 ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
   ObjectHit best = objMiss();
   uint cascades = OBJ_FRAME.counts.y;
@@ -382,6 +324,7 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
   vec2 span = objBoxClip(o, inv, lo, hi);
   float t = max(tMin, span.x);
   float tEnd = min(tMax, span.y);
+  ivec3 stepDir = ivec3(d.x >= 0.0f ? 1 : -1, d.y >= 0.0f ? 1 : -1, d.z >= 0.0f ? 1 : -1);
   OBJ_COUNT(rays);
   for (uint step = 0u; step < 512u && t <= tEnd; ++step) {
     OBJ_COUNT(regionSteps);
@@ -400,16 +343,87 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     vec3 rLo = lo + vec3(float(r.x), float(r.y), float(r.z)) * ro.w;
     float exitT = objBoxClip(o, inv, rLo, rLo + vec3(ro.w)).y;
     float segEnd = min(exitT, tEnd);
-    uint regionIndex = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
-    uint count = OBJ_REGION(regionIndex).count;
+    uint region = c * 512u + uint(r.x) + 8u * (uint(r.y) + 8u * uint(r.z));
+    uint count = OBJ_REGION(region).count;
     if (count > 0u) {
       OBJ_COUNT(listedRegions);
-      uint start = OBJ_REGION(regionIndex).start;
-      uint wide = OBJ_REGION(regionIndex).wide;
-      for (uint k = 0u; k < wide; ++k)
-        best = objTestEntry(best, OBJ_LIST(start + k), o, d, inv, t, segEnd, rLo, ro.w);
-      if (count > wide)
-        best = objWalkSubCells(best, regionIndex, o, d, inv, t, segEnd, rLo, ro.w);
+      uint start = OBJ_REGION(region).start;
+      uint wide = OBJ_REGION(region).wide;
+      uint subBase = OBJ_REGION(region).subBase;
+      // The sub-cell DDA, from the sub-cell holding the region's entry point.
+      float sub = ro.w / float(kSubCellsPerAxis);
+      float cellT = t;
+      ivec3 cell = clamp(ivec3(floor((o + d * t - rLo) / sub)), ivec3(0), ivec3(7));
+      vec3 tNext = vec3(1e30f);
+      vec3 tDelta = vec3(1e30f);
+      for (int a = 0; a < 3; ++a) {
+        if (abs(d[a]) > 1e-12f) {
+          float face = rLo[a] + (float(cell[a]) + (stepDir[a] > 0 ? 1.0f : 0.0f)) * sub;
+          tNext[a] = (face - o[a]) / d[a];
+          tDelta[a] = sub / abs(d[a]);
+        }
+      }
+      bool walking = count > wide;
+      bool crossed = false;
+      uint ddaSteps = 0u;
+      // The first run: the wide entries over the region's stretch. `done`: every surface before
+      // it has been tested for, so a hit there is the nearest.
+      uint runStart = start;
+      uint runCount = wide;
+      float runFrom = t;
+      float runTo = segEnd;
+      float done = t;
+      for (uint run = 0u; run < 26u; ++run) {
+        for (uint k = 0u; k < runCount; ++k)
+          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w);
+        if (best.t >= 0.0f && best.t <= done + 1e-3f) return best;
+        // The next run: the list of the next occupied sub-cell along the ray.
+        runCount = 0u;
+        while (walking && runCount == 0u) {
+          OBJ_COUNT(occupancySteps);
+          float cellExit = min(min(tNext.x, min(tNext.y, tNext.z)), segEnd);
+          uint bit = uint(cell.x) + 8u * uint(cell.y) + 64u * uint(cell.z);
+          if ((OBJ_REGION(region).occupancy[bit >> 5u] & (1u << (bit & 31u))) != 0u) {
+            if (!crossed) {
+              OBJ_COUNT(occupiedRegions);
+            }
+            crossed = true;
+            // A hair before the sub-cell's entry: rounding at its face must not skip a surface.
+            runFrom = max(t, cellT - 1e-4f * ro.w);
+            if (subBase == kNoSubLists) {
+              runStart = start + wide;
+              runCount = count - wide;
+              runTo = segEnd;
+              walking = false;
+            } else {
+              OBJ_COUNT(occupiedCells);
+              uvec4 header = OBJ_LIST(subBase + objSubRank(region, bit));
+              runStart = header.x;
+              runCount = header.y;
+              runTo = cellExit;
+            }
+            done = runTo;
+          } else if (best.t >= 0.0f && best.t <= cellExit + 1e-3f) {
+            return best;  // a wide instance's hit, and nothing before it
+          }
+          cellT = cellExit;
+          if (tNext.x <= tNext.y && tNext.x <= tNext.z) {
+            cell.x += stepDir.x;
+            tNext.x += tDelta.x;
+          } else if (tNext.y <= tNext.z) {
+            cell.y += stepDir.y;
+            tNext.y += tDelta.y;
+          } else {
+            cell.z += stepDir.z;
+            tNext.z += tDelta.z;
+          }
+          ddaSteps += 1u;
+          if (cellExit >= segEnd || ddaSteps >= 24u || cell.x < 0 || cell.y < 0 || cell.z < 0 ||
+              cell.x > 7 || cell.y > 7 || cell.z > 7)
+            walking = false;
+        }
+        if (runCount == 0u) break;
+      }
     }
     if (best.t >= 0.0f && best.t <= segEnd + 1e-3f) return best;
     t = max(exitT, t + 1e-4f * ro.w);
