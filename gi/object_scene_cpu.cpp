@@ -212,6 +212,7 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
       regions_[g].rank[w / 2] = rank | next << 16;
       rank = next + std::uint32_t(std::popcount(regions_[g].occupancy[w + 1]));
     }
+    regions_[g].occupiedBounds = p.objOccupiedBounds(regions_[g].occupancy);
     std::size_t own = 0;
     for (const auto& list : subLists[g]) own += list.size();
     const bool fits = headers + rank <= capacity && entries + own <= capacity;

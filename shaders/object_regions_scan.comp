@@ -3,7 +3,7 @@
 // one workgroup turns every region's counts into starts, exclusive prefix sums in region order
 // of the list entries, the occupied sub-cells (one sub-cell header each) and the sub-cell
 // entries, clamped to the capacities the host sized; it also writes each region's occupancy
-// ranks (object_layout.h). 256 threads of 8 consecutive regions each (2,048 regions at most):
+// ranks and the box of its occupied sub-cells (object_layout.h). 256 threads of 8 consecutive regions each (2,048 regions at most):
 // with 64 threads of 32 regions the dependent loads of a thread's chunk made this one pass
 // 0.11 ms on an H100 (docs/DECISIONS.md, "Object lists per occupied sub-cell").
 #extension GL_GOOGLE_include_directive : require
@@ -13,6 +13,8 @@
 #include "shaders/object_bindings.glsl"
 
 layout(push_constant) uniform Push { ObjectRegionPush pc; };
+
+#include "shaders/object_trace.glsl"
 
 const uint kScanThreads = 256u;
 layout(local_size_x = 256) in;
@@ -61,6 +63,7 @@ void main() {
       objRegions[r].rank[w / 2u] = rank | (next << 16u);
       rank = next + uint(bitCount(objRegions[r].occupancy[w + 1u]));
     }
+    objRegions[r].occupiedBounds = objOccupiedBounds(objRegions[r].occupancy);
     uint entries = objRegions[r].subStart;
     bool fits = at.y + rank <= pc.subCapacity && at.z + entries <= pc.subCapacity;
     objRegions[r].subBase = fits ? pc.capacity + at.y : kNoSubLists;

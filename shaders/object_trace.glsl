@@ -221,6 +221,34 @@ uint objRowMask(int lo, int hi) { return ((2u << uint(hi)) - 1u) & ~((1u << uint
 uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
 uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
 
+// ObjectRegionGpu::occupiedBounds of a region's occupancy words (row (y, z) of x bits in word
+// y / 4 + 2z at bit 8 (y % 4)); 0 when no bit is set.
+uint objOccupiedBounds(uint occupancy[kOccupancyWords]) {
+  uint xs = 0u;
+  int yLo = 8;
+  int yHi = -1;
+  int zLo = 8;
+  int zHi = -1;
+  for (int w = 0; w < int(kOccupancyWords); ++w) {
+    uint word = occupancy[w];
+    if (word == 0u) continue;
+    zLo = min(zLo, w / 2);
+    zHi = max(zHi, w / 2);
+    for (int b = 0; b < 4; ++b) {
+      uint row = (word >> uint(8 * b)) & 0xffu;
+      if (row == 0u) continue;
+      xs |= row;
+      yLo = min(yLo, 4 * (w % 2) + b);
+      yHi = max(yHi, 4 * (w % 2) + b);
+    }
+  }
+  if (xs == 0u) return 0u;
+  uint xLo = uint(findLSB(xs));
+  uint xHi = uint(findMSB(xs));
+  return xLo | (uint(yLo) << 3u) | (uint(zLo) << 6u) | (xHi << 9u) | (uint(yHi) << 12u) |
+         (uint(zHi) << 15u);
+}
+
 uint objSubCellCount(ObjSubRange r) {
   return uint((r.hi.x - r.lo.x + 1) * (r.hi.y - r.lo.y + 1) * (r.hi.z - r.lo.z + 1));
 }
@@ -350,10 +378,16 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
       uint start = OBJ_REGION(region).start;
       uint wide = OBJ_REGION(region).wide;
       uint subBase = OBJ_REGION(region).subBase;
-      // The sub-cell DDA, from the sub-cell holding the region's entry point.
+      // The sub-cell DDA, over the ray's part inside the box of the occupied sub-cells, from
+      // the sub-cell holding its start.
       float sub = ro.w / float(kSubCellsPerAxis);
-      float cellT = t;
-      ivec3 cell = clamp(ivec3(floor((o + d * t - rLo) / sub)), ivec3(0), ivec3(7));
+      uint ob = OBJ_REGION(region).occupiedBounds;
+      ivec3 bLo = ivec3(int(ob & 7u), int((ob >> 3u) & 7u), int((ob >> 6u) & 7u));
+      ivec3 bHi = ivec3(int((ob >> 9u) & 7u), int((ob >> 12u) & 7u), int((ob >> 15u) & 7u));
+      vec2 inBox = objBoxClip(o, inv, rLo + vec3(bLo) * sub, rLo + vec3(bHi + ivec3(1)) * sub);
+      float cellT = max(t, inBox.x);
+      float walkEnd = min(segEnd, inBox.y);
+      ivec3 cell = clamp(ivec3(floor((o + d * cellT - rLo) / sub)), bLo, bHi);
       vec3 tNext = vec3(1e30f);
       vec3 tDelta = vec3(1e30f);
       for (int a = 0; a < 3; ++a) {
@@ -363,7 +397,7 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
           tDelta[a] = sub / abs(d[a]);
         }
       }
-      bool walking = count > wide;
+      bool walking = count > wide && cellT <= walkEnd;
       bool crossed = false;
       uint ddaSteps = 0u;
       // The first run: the wide entries over the region's stretch. `done`: every surface before
@@ -418,8 +452,8 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
             tNext.z += tDelta.z;
           }
           ddaSteps += 1u;
-          if (cellExit >= segEnd || ddaSteps >= 24u || cell.x < 0 || cell.y < 0 || cell.z < 0 ||
-              cell.x > 7 || cell.y > 7 || cell.z > 7)
+          if (cellExit >= walkEnd || ddaSteps >= 24u || any(lessThan(cell, bLo)) ||
+              any(greaterThan(cell, bHi)))
             walking = false;
         }
         if (runCount == 0u) break;

@@ -84,6 +84,13 @@ struct ObjectRegionGpu {
   uint wake[kOccupancyWords];
   // Occupied sub-cells before occupancy word w: bits 16 (w % 2) .. +15 of rank[w / 2].
   uint rank[kOccupancyWords / 2];
+  // The box of the occupied sub-cells (written by the scan; 0 when none): 3 bits each, lo x, y,
+  // z at bits 0, 3, 6 and hi x, y, z at 9, 12, 15, inclusive. A ray walks the sub-cells only
+  // where it crosses it.
+  uint occupiedBounds;
+  uint pad0;  // records of 16-byte multiples
+  uint pad1;
+  uint pad2;
 };
 
 // Frame constants (ObjectMeta::frame, host-written each frame).
@@ -138,7 +145,7 @@ SDF_END_NAMESPACE
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 192);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 208);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);

@@ -36,15 +36,26 @@ std::vector<std::vector<std::uint32_t>> gpuLists(const ObjectScene& scene) {
 
 // The sub-cell lists (object_layout.h): per region the wide count, the occupancy ranks and, for
 // every occupied sub-cell, the instances listed there equal the brute-force lists of the CPU
-// reference; the wide entries come first in the region list.
+// reference, and the box of the occupied sub-cells equals the one the bits give; the wide entries
+// come first in the region list.
 void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
                              const std::vector<glm::uvec4>& entryData, const ObjectSceneCpu& cpu) {
   std::size_t wideDiffer = 0, rankDiffer = 0, listsDiffer = 0, withoutLists = 0, subLists = 0,
-              subEntries = 0, wideEntries = 0, wideFirst = 0;
+              subEntries = 0, wideEntries = 0, wideFirst = 0, boundsDiffer = 0;
   for (std::uint32_t r = 0; r < regions.size(); ++r) {
     const gs::ObjectRegionGpu& g = regions[r];
     const gs::ObjectRegionGpu& want = cpu.regions()[r];
     wideDiffer += g.wide != want.wide ? 1 : 0;
+    glm::uvec3 lo(7), hi(0);
+    for (std::uint32_t bit = 0; bit < 512; ++bit) {
+      if ((want.occupancy[bit / 32] >> (bit % 32) & 1u) == 0) continue;
+      const glm::uvec3 cell(bit % 8, bit / 8 % 8, bit / 64);
+      lo = glm::min(lo, cell);
+      hi = glm::max(hi, cell);
+    }
+    const std::uint32_t box =
+        lo.x > hi.x ? 0u : lo.x | lo.y << 3 | lo.z << 6 | hi.x << 9 | hi.y << 12 | hi.z << 15;
+    boundsDiffer += g.occupiedBounds != box || want.occupiedBounds != box ? 1 : 0;
     wideEntries += g.wide;
     // Wide entries first: their instances are the CPU's wide ones (those not in any sub-cell).
     std::set<std::uint32_t> inSubCells;
@@ -72,13 +83,15 @@ void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
   }
   std::printf(
       "[figures] sub-cell lists: %zu lists, %zu entries, %zu wide entries; %zu regions without "
-      "lists; %zu wide counts, %zu rank words, %zu lists differ; %zu entries out of order\n",
-      subLists, subEntries, wideEntries, withoutLists, wideDiffer, rankDiffer, listsDiffer,
-      wideFirst);
+      "lists; %zu wide counts, %zu rank words, %zu occupied boxes, %zu lists differ; %zu "
+      "entries out of order\n",
+      subLists, subEntries, wideEntries, withoutLists, wideDiffer, rankDiffer, boundsDiffer,
+      listsDiffer, wideFirst);
   EXPECT_GT(subLists, 0u);
   EXPECT_EQ(withoutLists, 0u) << "the host sizes the sub-cell lists so that they always fit";
   EXPECT_EQ(wideDiffer, 0u);
   EXPECT_EQ(rankDiffer, 0u);
+  EXPECT_EQ(boundsDiffer, 0u);
   EXPECT_EQ(listsDiffer, 0u);
   EXPECT_EQ(wideFirst, 0u);
 }
