@@ -271,6 +271,12 @@ gs::ObjectTraceHit ObjectSceneCpu::traceRegions(const gs::TraceRay& ray,
                               d);
 }
 
+bool ObjectSceneCpu::occluded(const gs::TraceRay& ray) const {
+  ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
+  return p.objOccluded(glm::vec3(ray.originTMin), glm::vec3(ray.dirTMax), ray.originTMin.w,
+                       ray.dirTMax.w);
+}
+
 gs::ObjectTraceHit ObjectSceneCpu::traceAll(const gs::TraceRay& ray) const {
   ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
   bindCards(p, cardTable_, cardTexels_, cardLight_);

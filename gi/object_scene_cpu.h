@@ -47,6 +47,8 @@ class ObjectSceneCpu {
   gpu_shared::ObjectTraceHit traceRegions(const gpu_shared::TraceRay& ray,
                                           ObjectWalkCounts* counts = nullptr) const;
   gpu_shared::ObjectTraceHit traceAll(const gpu_shared::TraceRay& ray) const;
+  // objOccluded (shadow rays: the walk stops at the first hit found).
+  bool occluded(const gpu_shared::TraceRay& ray) const;
 
   const ObjectFrameData& frame() const { return frame_; }
 

@@ -239,8 +239,7 @@ vec3 lightIrradianceOffset(GpuLight l, vec3 p0, vec3 n, float minOffset, float v
                                  cascadeCount, l.shape.z);
 #ifdef OBJ_FRAME
     // Moving objects cast hard shadows (issue 7 item 6); the includer binds them.
-    if (scalar > 0.0f && OBJ_FRAME.counts.x > 0u &&
-        objTraceRegions(origin, ray.dir, 0.0f, ray.tMax, 0u).t >= 0.0f)
+    if (scalar > 0.0f && OBJ_FRAME.counts.x > 0u && objOccluded(origin, ray.dir, 0.0f, ray.tMax))
       scalar = 0.0f;
 #endif
   }

@@ -115,8 +115,9 @@ float objInstanceDistance(uint i, vec3 p) {
 
 // Sphere traces instance i over [t0, t1] of the ray (stack space). The grid distance times the
 // instance's stepScale never exceeds the stack-space distance, so steps cannot skip a surface
-// (non-uniform scale included); a ray that starts inside the object hits at once.
-ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
+// (non-uniform scale included); a ray that starts inside the object hits at once. Without
+// `shade` a hit carries its t (up to the hit epsilon early) and instance only.
+ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1, bool shade) {
   ObjectHit h = objMiss();
   ObjectInstanceGpu inst = OBJ_INSTANCE(i);
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
@@ -139,6 +140,7 @@ ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
     if (dist < eps) {
       h.t = t;
       h.instance = i;
+      if (!shade) return h;  // occlusion only: no normal, no material, no refinement
       // Normal: the grid gradient carried to stack space (the gradient of d(gridFromStack·p)).
       float e = 0.5f;
       float dx =
@@ -195,7 +197,7 @@ ObjectHit objTraceAll(vec3 o, vec3 d, float tMin, float tMax) {
                            vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z));
     float hiT = best.t >= 0.0f ? min(tMax, best.t) : tMax;
     if (max(span.x, tMin) > min(span.y, hiT)) continue;
-    best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT));
+    best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT, true));
   }
   return best;
 }
@@ -309,14 +311,14 @@ bool objInRegionGrid(uint c, vec3 p) {
 // (from the entry), before its grid maps and any SDF read; a little past `to`, so a surface
 // exactly on a face is not lost.
 ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, float from, float to,
-                       vec3 rLo, float edge) {
+                       vec3 rLo, float edge, bool shade) {
   OBJ_COUNT(entriesTested);
   float hiT = best.t >= 0.0f ? min(best.t, to + 1e-3f) : to + 1e-3f;
   ObjListBox lb = objListEntryBox(entry, rLo, edge);
   vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
   if (max(box.x, from) > min(box.y, hiT)) return best;
   OBJ_COUNT(boxesCrossed);
-  return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT));
+  return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT, shade));
 }
 
 // DDA over the macro regions (finest cascade holding the current point), tracing the instances
@@ -336,7 +338,8 @@ ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, fl
 // lists (kNoSubLists) the first occupied sub-cell's run is every entry after the wide ones,
 // over the rest of the stretch. One call site of objTestEntry (and so of the inlined sphere
 // tracer) keeps the pass's code and registers small.
-ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
+// anyHit: stop at the first hit found, unshaded (shadow rays); the nearest one otherwise.
+ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade, bool anyHit) {
   ObjectHit best = objMiss();
   uint cascades = OBJ_FRAME.counts.y;
   if (OBJ_FRAME.counts.x == 0u || firstCascade >= cascades) return best;
@@ -408,8 +411,11 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
       float runTo = segEnd;
       float done = t;
       for (uint run = 0u; run < 26u; ++run) {
-        for (uint k = 0u; k < runCount; ++k)
-          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w);
+        for (uint k = 0u; k < runCount; ++k) {
+          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w,
+                              !anyHit);
+          if (anyHit && best.t >= 0.0f) return best;
+        }
         if (best.t >= 0.0f && best.t <= done + 1e-3f) return best;
         // The next run: the list of the next occupied sub-cell along the ray.
         runCount = 0u;
@@ -463,6 +469,16 @@ ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasc
     t = max(exitT, t + 1e-4f * ro.w);
   }
   return best;
+}
+
+ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
+  return objWalkRegions(o, d, tMin, tMax, firstCascade, false);
+}
+
+// Whether any object blocks the ray within [tMin, tMax] (the regions of every cascade): the
+// walk stops at the first hit, whichever it is, and shades nothing.
+bool objOccluded(vec3 o, vec3 d, float tMin, float tMax) {
+  return objWalkRegions(o, d, tMin, tMax, 0u, true).t >= 0.0f;
 }
 
 // Separating-axis test of an instance's oriented grid box against the axis-aligned stack box

@@ -258,13 +258,15 @@ TEST(ObjectWalkCost, CountsAtTheStressDensitiesAndTheWalkEqualsBruteForce) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(0.0f, 1.0f), n(-1.0f, 1.0f);
     ObjectWalkCounts counts;
+    std::size_t occlusionDiffers = 0;  // the shadow rays' any-hit walk against the nearest hit
     std::vector<gs::ObjectTraceHit> walked, brute;
     for (int k = 0; k < 2000; ++k) {
       const glm::vec3 o(4.0f + 120.0f * u(rng), 62.0f + 16.0f * u(rng), 4.0f + 120.0f * u(rng));
       const glm::vec3 d = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)) + 1e-4f);
       const float ground = d.y < 0.0f ? (o.y - 60.0f) / -d.y : 1e30f;
       gs::TraceRay ray{glm::vec4(o, 0.0f), glm::vec4(d, std::min(128.0f, ground))};
-      cpu.traceRegions(ray, &counts);
+      const bool hit = cpu.traceRegions(ray, &counts).normalT.w >= 0.0f;
+      occlusionDiffers += cpu.occluded(ray) != hit ? 1 : 0;
       walked.push_back(all.traceRegions(ray));
       brute.push_back(all.traceAll(ray));
     }
@@ -281,6 +283,7 @@ TEST(ObjectWalkCost, CountsAtTheStressDensitiesAndTheWalkEqualsBruteForce) {
         double(counts.entriesTested) / rays, double(counts.boxesCrossed) / rays, g.hits, g.hitMiss,
         g.worstT);
     EXPECT_EQ(counts.rays, 2000u);
+    EXPECT_EQ(occlusionDiffers, 0u) << count;
     EXPECT_EQ(g.hitMiss, 0u) << count;
     EXPECT_EQ(g.otherObject, 0u) << count;
     EXPECT_LE(g.worstT, 0.5f) << count;
