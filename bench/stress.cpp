@@ -141,10 +141,12 @@ StressRun runOnce(Bench& b, Mode mode, std::uint32_t objects) {
       m.frame = f;
       for (const gpu::PassTiming& t : gi.objects().lastTimings()) {
         if (!stress::hasObjects(mode)) break;  // never updated: nothing of this run
-        // The sub-cell lists' count and scan passes are counted with the regions'.
+        // The sub-cell lists' count and scan passes, and the rank pass, are counted with the
+        // regions' count and scan.
         if (t.name == "object_regions_count" || t.name == "object_regions_subcount")
           m.regionCountMs += t.milliseconds;
-        if (t.name == "object_regions_scan" || t.name == "object_regions_subscan")
+        if (t.name == "object_regions_rank" || t.name == "object_regions_scan" ||
+            t.name == "object_regions_subscan")
           m.regionScanMs += t.milliseconds;
         if (t.name == "object_regions_fill") m.regionFillMs += t.milliseconds;
       }

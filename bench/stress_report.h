@@ -29,7 +29,7 @@ inline bool hasObjects(Mode mode) {
 // One measured frame. GPU times are timestamp queries around each pass (milliseconds).
 struct StressFrame {
   int frame = 0;  // within its run, warm-up frames included (motion time t = frame / 60 s)
-  // object_regions_*: count (+ subcount), scan (+ subscan), fill.
+  // object_regions_*: count (+ subcount), scan (+ rank, subscan), fill.
   double regionCountMs = 0.0, regionScanMs = 0.0, regionFillMs = 0.0;
   double probeMs = 0.0;  // every probe pass of the update
   double traceMs = 0.0;  // its probe_trace pass

@@ -238,15 +238,19 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const glm::uvec3 perInstance(64u * n, cascades, 1u);
   batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push, perInstance);
   push.phase = 1u;
+  const std::uint32_t regions = cascades * gs::kRegionsPerCascade;
+  batch.dispatch("object_regions_rank", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(regions, 1u, 1u));
+  push.phase = 2u;
   batch.dispatch("object_regions_scan", scanPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(256u, 1u, 1u));
-  push.phase = 2u;
+  push.phase = 3u;
   batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
                  perInstance);
-  push.phase = 3u;
-  batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(64u * cascades * gs::kRegionsPerCascade, 1u, 1u));
   push.phase = 4u;
+  batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u * regions, 1u, 1u));
+  push.phase = 5u;
   batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push, perInstance);
 }
 

@@ -108,15 +108,15 @@ class ObjectScene {
   std::vector<gpu_shared::ObjectTraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
                                                 bool bruteForce);
 
-  // Timed passes record() adds to a batch: count, scan, sub-cell count and scan, fill.
-  static constexpr std::uint32_t kRegionPasses = 5;
+  // Timed passes record() adds to a batch: count, rank, scan, sub-cell count and scan, fill.
+  static constexpr std::uint32_t kRegionPasses = 6;
 
   std::vector<gpu_shared::ObjectRegionGpu> downloadRegions() const;
   // OBJ_LIST: the region lists' entries (objListEntry in shaders/object_trace.glsl: instance
   // index in x), then the sub-cell headers and the sub-cell entries (object_layout.h).
   std::vector<glm::uvec4> downloadLists() const;
-  // GPU times of the last update's region passes (count, scan, sub-cell count and scan, fill);
-  // empty when inactive.
+  // GPU times of the last update's region passes (count, rank, scan, sub-cell count and scan,
+  // fill); empty when inactive.
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   const std::vector<gpu::PassTiming>& lastTraceTimings() const { return traceTimings_; }
   // CPU time of the last record's buildObjectFrame (the rest of record is uploads).

@@ -5,20 +5,21 @@
 // box, atomics to mark presence). Compact lists instead of the slides' bitfields, so a ray pays
 // for the objects in a region, not for N/32 words of it (docs/DECISIONS.md); and per occupied
 // sub-cell a list of the instances whose AABB touches it (object_layout.h), so a ray pays only
-// for the objects of the sub-cells it crosses. Five phases, one dispatch each; the host zeroes
+// for the objects of the sub-cells it crosses. Six phases, one dispatch each; the host zeroes
 // the sub-cell headers before the first:
 //   0 count:     workgroup (instance, cascade); its 64 threads stride over the regions of the
 //                instance's AABB range and atomically count those its OBB overlaps; for a wide
 //                instance (more than kSubListMaxCells sub-cells) the wide count, else the
 //                sub-cells it touches into the occupancy bitfield and its sub-cell entries (the
 //                wake bits, which need the instances' old poses too, come from the host);
-//   1 scan:      object_regions_scan.comp, one workgroup: the counts into list starts
+//   1 rank:      thread per region: the occupancy words' ranks, the occupied sub-cells' box and
+//                their count;
+//   2 scan:      object_regions_scan.comp, one workgroup: the counts into list starts
 //                (exclusive prefix sums of the entries, the occupied sub-cells and the sub-cell
-//                entries), clamped to the capacities the host sized from the same AABB ranges,
-//                and the occupancy words' ranks;
-//   2 sub-count: as 0, counting each non-wide instance into the headers of its sub-cells;
-//   3 sub-scan:  workgroup per region: its headers' counts into entry starts;
-//   4 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
+//                entries), clamped to the capacities the host sized from the same AABB ranges;
+//   3 sub-count: as 0, counting each non-wide instance into the headers of its sub-cells;
+//   4 sub-scan:  workgroup per region: its headers' counts into entry starts;
+//   5 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
 //                to its region's list (wide ones first) and to its sub-cells' lists.
 // Cost: instances × regions of their AABBs × (1 + sub-cells touched), plus the two scans.
 #extension GL_GOOGLE_include_directive : require
@@ -36,12 +37,11 @@ layout(local_size_x = 64) in;
 shared uint partial[64];
 
 uint occupiedSubCells(uint r) {
-  uint n = 0u;
-  for (uint w = 0u; w < kOccupancyWords; ++w) n += uint(bitCount(objRegions[r].occupancy[w]));
-  return n;
+  return (objRegions[r].rank[kOccupancyWords / 2u - 1u] >> 16u) +
+         uint(bitCount(objRegions[r].occupancy[kOccupancyWords - 1u]));
 }
 
-// Phase 3, one workgroup per region: the region's headers (in rank order) get their entries'
+// Phase 4, one workgroup per region: the region's headers (in rank order) get their entries'
 // starts, one run after the other from the region's subStart.
 void scanSubCells() {
   uint r = gl_WorkGroupID.x;
@@ -73,8 +73,27 @@ void scanSubCells() {
   }
 }
 
+// Phase 1, one thread per region: the occupancy words' ranks, the box of the occupied
+// sub-cells, and their count (left in subBase for the scan).
+void rankRegion() {
+  uint r = gl_GlobalInvocationID.x;
+  if (r >= pc.cascades * kRegionsPerCascade) return;
+  uint rank = 0u;
+  for (uint w = 0u; w < kOccupancyWords; w += 2u) {
+    uint next = rank + uint(bitCount(objRegions[r].occupancy[w]));
+    objRegions[r].rank[w / 2u] = rank | (next << 16u);
+    rank = next + uint(bitCount(objRegions[r].occupancy[w + 1u]));
+  }
+  objRegions[r].occupiedBounds = objOccupiedBounds(objRegions[r].occupancy);
+  objRegions[r].subBase = rank;
+}
+
 void main() {
-  if (pc.phase == 3u) {
+  if (pc.phase == 1u) {
+    rankRegion();
+    return;
+  }
+  if (pc.phase == 4u) {
     scanSubCells();
     return;
   }
@@ -115,7 +134,7 @@ void main() {
       continue;
     }
     uvec4 entry = objListEntry(i, bmin, bmax, lo, ro.w);
-    if (pc.phase == 4u) {
+    if (pc.phase == 5u) {
       uint wideCount = objRegions[region].wide;
       uint at = wide ? atomicAdd(objRegions[region].wideCursor, 1u)
                      : wideCount + atomicAdd(objRegions[region].cursor, 1u);
@@ -127,7 +146,7 @@ void main() {
       for (int y = sr.lo.y; y <= sr.hi.y; ++y)
         for (int x = sr.lo.x; x <= sr.hi.x; ++x) {
           uint h = base + objSubRank(region, uint(x + 8 * y + 64 * z));
-          if (pc.phase == 2u) {
+          if (pc.phase == 3u) {
             atomicAdd(objList[h].y, 1u);
           } else {
             uint slot = atomicAdd(objList[h].z, 1u);

@@ -69,14 +69,19 @@ SDF_CONST uint kNoSubLists = 0xffffffffu;  // subBase when the lists did not fit
 
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
-  uint count;       // instances listed: the `wide` ones first, then the rest
-  uint start;       // first entry in OBJ_LIST (uvec4 each: objListEntry)
-  uint moved;       // nonzero: some wake bit below is set
-  uint cursor;      // fill pass scratch (entries after the wide ones)
-  uint wide;        // listed instances touching more than kSubListMaxCells sub-cells
-  uint wideCursor;  // fill pass scratch
-  uint subBase;     // OBJ_LIST index of the first sub-cell header, or kNoSubLists
+  // What the walk reads first, in one 32-byte sector.
+  uint count;    // instances listed: the `wide` ones first, then the rest
+  uint start;    // first entry in OBJ_LIST (uvec4 each: objListEntry)
+  uint wide;     // listed instances touching more than kSubListMaxCells sub-cells
+  uint subBase;  // OBJ_LIST index of the first sub-cell header, or kNoSubLists (the rank pass
+                 // leaves the region's occupied sub-cells here for the scan)
+  // The box of the occupied sub-cells (written by the rank pass; 0 when none): 3 bits each, lo
+  // x, y, z at bits 0, 3, 6 and hi x, y, z at 9, 12, 15, inclusive. A ray walks the sub-cells
+  // only where it crosses it.
+  uint occupiedBounds;
   uint subStart;    // count pass: sub-cell entries; after the scan: the first one's OBJ_LIST index
+  uint cursor;      // fill pass scratch (entries after the wide ones)
+  uint wideCursor;  // fill pass scratch
   // Sub-cells the AABBs of the listed instances that are not wide touch (bit above).
   uint occupancy[kOccupancyWords];
   // Sub-cells (same bits) within wake distance of an instance that moved, appeared or vanished
@@ -84,11 +89,8 @@ struct ObjectRegionGpu {
   uint wake[kOccupancyWords];
   // Occupied sub-cells before occupancy word w: bits 16 (w % 2) .. +15 of rank[w / 2].
   uint rank[kOccupancyWords / 2];
-  // The box of the occupied sub-cells (written by the scan; 0 when none): 3 bits each, lo x, y,
-  // z at bits 0, 3, 6 and hi x, y, z at 9, 12, 15, inclusive. A ray walks the sub-cells only
-  // where it crosses it.
-  uint occupiedBounds;
-  uint pad0;  // records of 16-byte multiples
+  uint moved;  // nonzero: some wake bit above is set
+  uint pad0;   // records of 16-byte multiples
   uint pad1;
   uint pad2;
 };
@@ -110,7 +112,7 @@ struct ObjectFrameGpu {
 // region lists' `capacity` entries, then `subCapacity` sub-cell headers, then `subCapacity`
 // sub-cell entries.
 struct ObjectRegionPush {
-  uint phase;  // 0 count, 1 scan, 2 sub-cell count, 3 sub-cell scan, 4 fill
+  uint phase;  // 0 count, 1 rank, 2 scan, 3 sub-cell count, 4 sub-cell scan, 5 fill
   uint instances;
   uint cascades;
   uint capacity;
