@@ -115,9 +115,10 @@ float objInstanceDistance(uint i, vec3 p) {
 
 // Sphere traces instance i over [t0, t1] of the ray (stack space). The grid distance times the
 // instance's stepScale never exceeds the stack-space distance, so steps cannot skip a surface
-// (non-uniform scale included); a ray that starts inside the object hits at once. Without
-// `shade` a hit carries its t (up to the hit epsilon early) and instance only.
-ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1, bool shade) {
+// (non-uniform scale included); a ray that starts inside the object hits at once. The hit
+// carries its t (up to the hit epsilon before the surface) and instance only: the walk keeps
+// the nearest of those, and objShadeHit shades that one.
+ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1) {
   ObjectHit h = objMiss();
   ObjectInstanceGpu inst = OBJ_INSTANCE(i);
   ObjectMeshGpu m = OBJ_MESH(inst.info.x);
@@ -140,36 +141,53 @@ ObjectHit objTraceInstance(uint i, vec3 o, vec3 d, float t0, float t1, bool shad
     if (dist < eps) {
       h.t = t;
       h.instance = i;
-      if (!shade) return h;  // occlusion only: no normal, no material, no refinement
-      // Normal: the grid gradient carried to stack space (the gradient of d(gridFromStack·p)).
-      float e = 0.5f;
-      float dx =
-          objGridDistance(m, g + vec3(e, 0.0f, 0.0f)) - objGridDistance(m, g - vec3(e, 0.0f, 0.0f));
-      float dy =
-          objGridDistance(m, g + vec3(0.0f, e, 0.0f)) - objGridDistance(m, g - vec3(0.0f, e, 0.0f));
-      float dz =
-          objGridDistance(m, g + vec3(0.0f, 0.0f, e)) - objGridDistance(m, g - vec3(0.0f, 0.0f, e));
-      vec3 r0 = vec3(inst.gridFromStack[0].x, inst.gridFromStack[0].y, inst.gridFromStack[0].z);
-      vec3 r1 = vec3(inst.gridFromStack[1].x, inst.gridFromStack[1].y, inst.gridFromStack[1].z);
-      vec3 r2 = vec3(inst.gridFromStack[2].x, inst.gridFromStack[2].y, inst.gridFromStack[2].z);
-      vec3 n = r0 * dx + r1 * dy + r2 * dz;
-      // One Newton step along the ray onto the zero crossing (d(t) is nearly linear within a
-      // voxel of a surface): the hit lands on the surface, not up to eps before it.
-      float slope = dot(vec3(dx, dy, dz), gd);  // grid voxels per stack voxel, × 2e
-      if (slope < -1e-4f) h.t = max(t0, t - clamp(dist * 2.0f * e / slope, -stepScale, stepScale));
-      float len = length(n);
-      h.normal = len > 1e-12f ? n / len : -d;
-      vec3 c = clamp(g + vec3(0.5f), vec3(0.0f), hi);
-      uint idx =
-          m.dimsOffset.w + uint(c.x) + m.dimsOffset.x * (uint(c.y) + m.dimsOffset.y * uint(c.z));
-      uvec2 material = OBJ_MAT(idx);
-      h.albedo = material.x;
-      h.emission = material.y;
       return h;
     }
     t += max(0.9f * dist, 0.02f) * stepScale;
     if (t > tEnd) break;
   }
+  return h;
+}
+
+// The normal, material and refined t of the hit a walk kept (objTraceInstance's, unshaded), so
+// the six gradient samples and the material read are paid once per ray, not per hit found on the
+// way. tMin: the ray's start.
+ObjectHit objShadeHit(ObjectHit h, vec3 o, vec3 d, float tMin) {
+  if (h.t < 0.0f) return h;
+  ObjectInstanceGpu inst = OBJ_INSTANCE(h.instance);
+  ObjectMeshGpu m = OBJ_MESH(inst.info.x);
+  vec3 go = objAffine(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], o);
+  vec3 gd = objLinear(inst.gridFromStack[0], inst.gridFromStack[1], inst.gridFromStack[2], d);
+  vec3 hi =
+      vec3(float(m.dimsOffset.x - 1u), float(m.dimsOffset.y - 1u), float(m.dimsOffset.z - 1u));
+  float t = h.t;
+  SDF_PRECISE vec3 g = go + gd * t;
+  float dist = objGridDistance(m, g);
+  // Normal: the grid gradient carried to stack space (the gradient of d(gridFromStack·p)).
+  float e = 0.5f;
+  float dx =
+      objGridDistance(m, g + vec3(e, 0.0f, 0.0f)) - objGridDistance(m, g - vec3(e, 0.0f, 0.0f));
+  float dy =
+      objGridDistance(m, g + vec3(0.0f, e, 0.0f)) - objGridDistance(m, g - vec3(0.0f, e, 0.0f));
+  float dz =
+      objGridDistance(m, g + vec3(0.0f, 0.0f, e)) - objGridDistance(m, g - vec3(0.0f, 0.0f, e));
+  vec3 r0 = vec3(inst.gridFromStack[0].x, inst.gridFromStack[0].y, inst.gridFromStack[0].z);
+  vec3 r1 = vec3(inst.gridFromStack[1].x, inst.gridFromStack[1].y, inst.gridFromStack[1].z);
+  vec3 r2 = vec3(inst.gridFromStack[2].x, inst.gridFromStack[2].y, inst.gridFromStack[2].z);
+  vec3 n = r0 * dx + r1 * dy + r2 * dz;
+  // One Newton step along the ray onto the zero crossing (d(t) is nearly linear within a voxel of
+  // a surface): the hit lands on the surface, not up to eps before it.
+  float stepScale = inst.boundsMin.w;
+  float slope = dot(vec3(dx, dy, dz), gd);  // grid voxels per stack voxel, × 2e
+  if (slope < -1e-4f) h.t = max(tMin, t - clamp(dist * 2.0f * e / slope, -stepScale, stepScale));
+  float len = length(n);
+  h.normal = len > 1e-12f ? n / len : -d;
+  vec3 c = clamp(g + vec3(0.5f), vec3(0.0f), hi);
+  uint idx =
+      m.dimsOffset.w + uint(c.x) + m.dimsOffset.x * (uint(c.y) + m.dimsOffset.y * uint(c.z));
+  uvec2 material = OBJ_MAT(idx);
+  h.albedo = material.x;
+  h.emission = material.y;
   return h;
 }
 
@@ -197,9 +215,9 @@ ObjectHit objTraceAll(vec3 o, vec3 d, float tMin, float tMax) {
                            vec3(inst.boundsMax.x, inst.boundsMax.y, inst.boundsMax.z));
     float hiT = best.t >= 0.0f ? min(tMax, best.t) : tMax;
     if (max(span.x, tMin) > min(span.y, hiT)) continue;
-    best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT, true));
+    best = objNearer(best, objTraceInstance(i, o, d, tMin, hiT));
   }
-  return best;
+  return objShadeHit(best, o, d, tMin);
 }
 
 // Occupancy sub-cells (object_layout.h): the inclusive sub-cell range [lo, hi] (0..7) of region
@@ -311,14 +329,14 @@ bool objInRegionGrid(uint c, vec3 p) {
 // (from the entry), before its grid maps and any SDF read; a little past `to`, so a surface
 // exactly on a face is not lost.
 ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, float from, float to,
-                       vec3 rLo, float edge, bool shade) {
+                       vec3 rLo, float edge) {
   OBJ_COUNT(entriesTested);
   float hiT = best.t >= 0.0f ? min(best.t, to + 1e-3f) : to + 1e-3f;
   ObjListBox lb = objListEntryBox(entry, rLo, edge);
   vec2 box = objBoxClip(o, inv, lb.lo, lb.hi);
   if (max(box.x, from) > min(box.y, hiT)) return best;
   OBJ_COUNT(boxesCrossed);
-  return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT, shade));
+  return objNearer(best, objTraceInstance(entry.x, o, d, from, hiT));
 }
 
 // DDA over the macro regions (finest cascade holding the current point), tracing the instances
@@ -338,7 +356,8 @@ ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, fl
 // lists (kNoSubLists) the first occupied sub-cell's run is every entry after the wide ones,
 // over the rest of the stretch. One call site of objTestEntry (and so of the inlined sphere
 // tracer) keeps the pass's code and registers small.
-// anyHit: stop at the first hit found, unshaded (shadow rays); the nearest one otherwise.
+// anyHit: stop at the first hit found (shadow rays); the nearest one otherwise. Unshaded either
+// way (objTraceRegions shades the one it returns).
 ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade, bool anyHit) {
   ObjectHit best = objMiss();
   uint cascades = OBJ_FRAME.counts.y;
@@ -412,8 +431,7 @@ ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasca
       float done = t;
       for (uint run = 0u; run < 26u; ++run) {
         for (uint k = 0u; k < runCount; ++k) {
-          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w,
-                              !anyHit);
+          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w);
           if (anyHit && best.t >= 0.0f) return best;
         }
         if (best.t >= 0.0f && best.t <= done + 1e-3f) return best;
@@ -472,7 +490,7 @@ ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasca
 }
 
 ObjectHit objTraceRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCascade) {
-  return objWalkRegions(o, d, tMin, tMax, firstCascade, false);
+  return objShadeHit(objWalkRegions(o, d, tMin, tMax, firstCascade, false), o, d, tMin);
 }
 
 // Whether any object blocks the ray within [tMin, tMax] (the regions of every cascade): the
