@@ -70,7 +70,6 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
 }
 
 namespace {
-// Inclusive region range of a stack AABB in region cascade c; false when it misses the grid.
 // Sub-cells (object_layout.h) of cascade c's region grid that instance g's AABB touches: every
 // region's share of them together, an upper bound of its sub-cell list entries there.
 std::uint64_t subCellVolume(const gs::ObjectFrameGpu& f, std::uint32_t c,
@@ -88,6 +87,7 @@ std::uint64_t subCellVolume(const gs::ObjectFrameGpu& f, std::uint32_t c,
   return std::uint64_t(ext.x) * ext.y * ext.z;
 }
 
+// Inclusive region range of a stack AABB in region cascade c; false when it misses the grid.
 bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, glm::vec3 bmax,
                  glm::ivec3& lo, glm::ivec3& hi) {
   const glm::vec4 ro = f.regionOrigin[c];

@@ -34,7 +34,8 @@ ObjectScene::ObjectScene(gpu::Context& context, ObjectSceneSettings settings)
       regionsPipeline_(context, gpu::ShaderId::object_regions,
                        gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush), kGroup}),
       scanPipeline_(context, gpu::ShaderId::object_regions_scan,
-                    gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush), glm::uvec3(256, 1, 1)}),
+                    gpu::PipelineDesc{8, sizeof(gs::ObjectRegionPush),
+                                      glm::uvec3(gs::kRegionScanThreads, 1, 1)}),
       tracePipeline_(context, gpu::ShaderId::object_trace,
                      gpu::PipelineDesc{10, sizeof(gs::ObjectTracePush), kGroup}),
       meta_(context, sizeof(gs::ObjectFrameGpu) + sizeof(gs::ObjectMeshGpu),
@@ -243,7 +244,7 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                  glm::uvec3(regions, 1u, 1u));
   push.phase = 2u;
   batch.dispatch("object_regions_scan", scanPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(256u, 1u, 1u));
+                 glm::uvec3(gs::kRegionScanThreads, 1u, 1u));
   push.phase = 3u;
   batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
                  perInstance);

@@ -1,7 +1,6 @@
 #include "gi/object_scene_cpu.h"
 
 #include <algorithm>
-#include <bit>
 
 #include "shaders/shared/color_codec.h"
 
@@ -206,12 +205,11 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
   const std::size_t capacity = frame_.subListCapacity;
   std::size_t headers = 0, entries = 0;
   for (std::size_t g = 0; g < regionCount; ++g) {
-    std::uint32_t rank = 0;
-    for (std::uint32_t w = 0; w < gs::kOccupancyWords; w += 2) {
-      const std::uint32_t next = rank + std::uint32_t(std::popcount(regions_[g].occupancy[w]));
-      regions_[g].rank[w / 2] = rank | next << 16;
-      rank = next + std::uint32_t(std::popcount(regions_[g].occupancy[w + 1]));
-    }
+    std::uint32_t* occupancy = regions_[g].occupancy;
+    for (std::uint32_t w = 0; w < gs::kOccupancyWords; w += 2)
+      regions_[g].rank[w / 2] =
+          p.objOccupiedBefore(occupancy, w) | p.objOccupiedBefore(occupancy, w + 1) << 16;
+    const std::uint32_t rank = p.objOccupiedBefore(occupancy, gs::kOccupancyWords);
     regions_[g].occupiedBounds = p.objOccupiedBounds(regions_[g].occupancy);
     std::size_t own = 0;
     for (const auto& list : subLists[g]) own += list.size();

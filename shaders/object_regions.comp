@@ -78,14 +78,12 @@ void scanSubCells() {
 void rankRegion() {
   uint r = gl_GlobalInvocationID.x;
   if (r >= pc.cascades * kRegionsPerCascade) return;
-  uint rank = 0u;
-  for (uint w = 0u; w < kOccupancyWords; w += 2u) {
-    uint next = rank + uint(bitCount(objRegions[r].occupancy[w]));
-    objRegions[r].rank[w / 2u] = rank | (next << 16u);
-    rank = next + uint(bitCount(objRegions[r].occupancy[w + 1u]));
-  }
-  objRegions[r].occupiedBounds = objOccupiedBounds(objRegions[r].occupancy);
-  objRegions[r].subBase = rank;
+  uint occupancy[kOccupancyWords] = objRegions[r].occupancy;
+  for (uint w = 0u; w < kOccupancyWords; w += 2u)
+    objRegions[r].rank[w / 2u] =
+        objOccupiedBefore(occupancy, w) | (objOccupiedBefore(occupancy, w + 1u) << 16u);
+  objRegions[r].occupiedBounds = objOccupiedBounds(occupancy);
+  objRegions[r].subBase = objOccupiedBefore(occupancy, kOccupancyWords);
 }
 
 void main() {

@@ -15,15 +15,13 @@
 
 layout(push_constant) uniform Push { ObjectRegionPush pc; };
 
+layout(local_size_x = kRegionScanThreads) in;
 
-const uint kScanThreads = 256u;
-layout(local_size_x = 256) in;
-
-shared uvec3 sums[2][kScanThreads];
+shared uvec3 sums[2][kRegionScanThreads];
 
 void main() {
   uint total = pc.cascades * kRegionsPerCascade;
-  uint chunk = (total + kScanThreads - 1u) / kScanThreads;
+  uint chunk = (total + kRegionScanThreads - 1u) / kRegionScanThreads;
   uint lid = gl_LocalInvocationID.x;
   uint begin = min(lid * chunk, total);
   uint end = min(begin + chunk, total);
@@ -35,7 +33,7 @@ void main() {
   uint from = 0u;
   sums[0][lid] = own;
   barrier();
-  for (uint offset = 1u; offset < kScanThreads; offset <<= 1u) {
+  for (uint offset = 1u; offset < kRegionScanThreads; offset <<= 1u) {
     uvec3 v = sums[from][lid];
     if (lid >= offset) v += sums[from][lid - offset];
     sums[1u - from][lid] = v;

@@ -269,6 +269,14 @@ uint objOccupiedBounds(uint occupancy[kOccupancyWords]) {
          (uint(zHi) << 15u);
 }
 
+// Occupied sub-cells in occupancy words 0 .. word - 1 (word 16: the region's whole count): what
+// ObjectRegionGpu::rank stores per word, written by the rank pass and its C++ reference.
+uint objOccupiedBefore(uint occupancy[kOccupancyWords], uint word) {
+  uint n = 0u;
+  for (uint w = 0u; w < word; ++w) n += uint(bitCount(occupancy[w]));
+  return n;
+}
+
 uint objSubCellCount(ObjSubRange r) {
   return uint((r.hi.x - r.lo.x + 1) * (r.hi.y - r.lo.y + 1) * (r.hi.z - r.lo.z + 1));
 }

@@ -66,6 +66,7 @@ SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) t
 // y entries, z fill cursor, w 0; the entries are objListEntry records of the region.
 SDF_CONST uint kSubListMaxCells = 64;
 SDF_CONST uint kNoSubLists = 0xffffffffu;  // subBase when the lists did not fit: walk the region
+SDF_CONST uint kRegionScanThreads = 256;   // object_regions_scan.comp's one workgroup
 
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
