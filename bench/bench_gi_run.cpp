@@ -224,7 +224,8 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
   r.probeMiB = double(gi_.probes().deviceBytes()) / double(1 << 20);
   r.lightMiB = bufferMiB({&gi_.lightCache().radianceBuffer()});
   const GpuStackScene& g = gi_.scene();
-  r.atlasMiB = bufferMiB({&g.pageTables(), &g.distance(), &g.albedo(), &g.emission(), &g.params()});
+  r.atlasMiB = bufferMiB(
+      {&g.pageTables(), &g.distance(), &g.corners(), &g.albedo(), &g.emission(), &g.params()});
   return e;
 }
 

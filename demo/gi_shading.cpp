@@ -179,7 +179,7 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
   std::vector<const gpu::Buffer*> bindings = {&rays,
                                               &shaded,
                                               &scene.pageTables(),
-                                              &scene.distance(),
+                                              &scene.corners(),
                                               &scene.albedo(),
                                               &scene.emission(),
                                               &scene.params(),

@@ -9,9 +9,11 @@
 
 namespace sdfstream {
 namespace {
-// Timed passes per frame: the region passes and the light cache's, then 7 probe passes per probe
-// update (a light switch's catch-up frames run several), each with room to spare.
-constexpr std::uint32_t kPassesBesideProbes = ObjectScene::kRegionPasses + 6;
+// Timed passes per frame: the atlas upload's, the region passes and the light cache's, then 7
+// probe passes per probe update (a light switch's catch-up frames run several), each with room
+// to spare.
+constexpr std::uint32_t kPassesBesideProbes =
+    GpuStackScene::kUploadPasses + ObjectScene::kRegionPasses + 6;
 constexpr std::uint32_t kPassesPerProbeUpdate = 8;
 
 std::vector<gpu::PassTiming> passesStartingWith(const std::vector<gpu::PassTiming>& all,
@@ -281,8 +283,8 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
 
 std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {
   const auto probe = probes_.sampleBuffers();
-  return {probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
-          &scene_.distance(), &scene_.params()};
+  return {probe[0],          probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
+          &scene_.corners(), &scene_.params()};
 }
 
 std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {

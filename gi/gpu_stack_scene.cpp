@@ -8,6 +8,7 @@ namespace sdfstream {
 namespace {
 constexpr std::size_t kDistWords = gpu_shared::kBrickDistanceWords;
 constexpr std::size_t kMatWords = gpu_shared::kBrickMaterialCount;
+constexpr std::size_t kCornerWords = gpu_shared::kBrickCornerWords;
 
 void ensure(gpu::Context& ctx, gpu::Buffer& buffer, std::size_t bytes) {
   if (buffer.size() < bytes || !buffer)
@@ -58,7 +59,7 @@ std::size_t recordSlots(gpu::CommandBatch& batch, gpu::StagingRing& staging,
 template <typename Record>
 auto blocking(gpu::Context& ctx, Record&& record) {
   gpu::StagingRing staging(ctx, 1);
-  gpu::CommandBatch batch = ctx.beginBatch(0);
+  gpu::CommandBatch batch = ctx.beginBatch(GpuStackScene::kUploadPasses);
   staging.beginFrame();
   auto result = record(batch, staging);
   staging.endFrame(batch.submit());
@@ -76,7 +77,31 @@ std::size_t GpuStackScene::recordUploadAll(gpu::CommandBatch& batch, gpu::Stagin
   bytes += recordVector(context_, batch, staging, distance_, *image.distanceAtlas);
   bytes += recordVector(context_, batch, staging, albedo_, *image.albedoAtlas);
   bytes += recordVector(context_, batch, staging, emission_, *image.emissionAtlas);
+  recordCorners(batch, staging, {}, true);
   return bytes;
+}
+
+void GpuStackScene::recordCorners(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                                  std::span<const std::uint32_t> slots, bool all) {
+  const std::uint32_t count = all ? slotCount_ : std::uint32_t(slots.size());
+  ensure(context_, corners_, std::max<std::size_t>(slotCount_, 1) * kCornerWords * 4);
+  if (count == 0) return;
+  if (!cornersPipeline_)
+    cornersPipeline_ = gpu::ComputePipeline(
+        context_, gpu::ShaderId::brick_corners,
+        gpu::PipelineDesc{3, sizeof(gpu_shared::BrickCornersPush), glm::uvec3(64, 1, 1)});
+  ensure(context_, cornerSlots_, std::max<std::size_t>(slots.size(), 1) * 4);
+  if (!all) staging.upload(batch, cornerSlots_, 0, slots.data(), slots.size_bytes());
+  const gpu_shared::BrickCornersPush push{count, all ? 0u : 1u, 0, 0};
+  batch.dispatch("brick_corners", cornersPipeline_, {&cornerSlots_, &distance_, &corners_}, &push,
+                 sizeof push, gpu::spreadOverRows(count * std::uint32_t(kMatWords)));
+}
+
+void GpuStackScene::releaseAtlas() {
+  distance_ = gpu::Buffer();
+  albedo_ = gpu::Buffer();
+  emission_ = gpu::Buffer();
+  corners_ = gpu::Buffer();
 }
 
 std::uint32_t GpuStackScene::reserveAtlas(std::uint32_t slots) {
@@ -86,22 +111,19 @@ std::uint32_t GpuStackScene::reserveAtlas(std::uint32_t slots) {
       ensure(context_, distance_, std::size_t(slots) * kDistWords * 4);
       ensure(context_, albedo_, std::size_t(slots) * kMatWords * 4);
       ensure(context_, emission_, std::size_t(slots) * kMatWords * 4);
+      ensure(context_, corners_, std::size_t(slots) * kCornerWords * 4);
       slotCap_ = slots;
       return slots;
     } catch (const gpu::OutOfDeviceMemory&) {
       if (slots / 2 < kMinSlots) throw;
       slots /= 2;
-      distance_ = gpu::Buffer();
-      albedo_ = gpu::Buffer();
-      emission_ = gpu::Buffer();
+      releaseAtlas();
     }
   }
 }
 
 std::uint32_t GpuStackScene::shrinkAtlas(std::uint32_t slots) {
-  distance_ = gpu::Buffer();
-  albedo_ = gpu::Buffer();
-  emission_ = gpu::Buffer();
+  releaseAtlas();
   return reserveAtlas(slots);
 }
 
@@ -120,6 +142,7 @@ std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing
   bytes += recordSlots(batch, staging, stack.atlasDistance(), distance_, kDistWords, dirty);
   bytes += recordSlots(batch, staging, stack.atlasAlbedo(), albedo_, kMatWords, dirty);
   bytes += recordSlots(batch, staging, stack.atlasEmission(), emission_, kMatWords, dirty);
+  recordCorners(batch, staging, dirty, false);
   return bytes;
 }
 

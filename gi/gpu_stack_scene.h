@@ -1,7 +1,9 @@
 // The streamed cascade stack on the GPU: page tables, cascade params and the shared brick atlas
 // (distance, albedo, emission) in device buffers. One instance is shared by every pass that
 // reads the SDF (stack tracing, the light cache, the probe update), so the atlas is uploaded
-// once per frame, and only the slots the stack rewrote.
+// once per frame, and only the slots the stack rewrote. Beside the distance atlas it keeps the
+// same distances regrouped by trilinear cell (corners(), sdf_layout.h kBrickCornerWords), built
+// on the GPU from each uploaded slot, for the passes that read a sample in one load.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +11,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/command_batch.h"
+#include "gpu/compute_pipeline.h"
 #include "gpu/context.h"
 #include "gpu/staging_ring.h"
 #include "streaming/cascade_stack.h"
@@ -18,6 +21,9 @@ namespace sdfstream {
 class GpuStackScene {
  public:
   explicit GpuStackScene(gpu::Context& context) : context_(context) {}
+
+  // Timed passes an upload records into the caller's batch (the corners' regrouping).
+  static constexpr std::uint32_t kUploadPasses = 1;
 
   // Whole-image upload (tests, analytic scenes, first frame), recorded into `batch` through the
   // staging ring (in its current frame). Buffers grow as needed (contents then start undefined
@@ -50,13 +56,21 @@ class GpuStackScene {
   const gpu::Buffer& albedo() const { return albedo_; }
   const gpu::Buffer& emission() const { return emission_; }
   const gpu::Buffer& params() const { return params_; }
+  // kBrickCornerWords per slot: the distance atlas by cell, rebuilt with every upload above.
+  const gpu::Buffer& corners() const { return corners_; }
 
  private:
+  // Regroups the listed slots (every slot when `all`) of the distance atlas into corners_.
+  void recordCorners(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                     std::span<const std::uint32_t> slots, bool all);
+  void releaseAtlas();
+
   gpu::Context& context_;
   std::uint32_t cascadeCount_ = 0;
   std::uint32_t slotCount_ = 0;
   std::uint32_t slotCap_ = 0;  // reserveAtlas's slots; 0: as many as the stack has
-  gpu::Buffer pageTables_, distance_, albedo_, emission_, params_;
+  gpu::Buffer pageTables_, distance_, albedo_, emission_, params_, corners_, cornerSlots_;
+  gpu::ComputePipeline cornersPipeline_;  // created on the first upload
 };
 
 }  // namespace sdfstream

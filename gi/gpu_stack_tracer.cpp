@@ -28,7 +28,7 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
   gpu::CommandBatch batch = context_.beginBatch();
   batch_.recordUpload(batch);
   batch.dispatch("trace_stack", pipeline_,
-                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.distance(),
+                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.corners(),
                   &scene_.albedo(), &scene_.emission(), &scene_.params()},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch_.recordReadback(batch);

@@ -79,8 +79,8 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
         scene.cascadeCount(), sky, voxelSize0);
     // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512
     // cells.
-    std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,          &radiance_,
-                                            &scene.pageTables(), &scene.distance(), &scene.albedo(),
+    std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
+                                            &scene.pageTables(), &scene.corners(), &scene.albedo(),
                                             &scene.emission(),   &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
     batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
@@ -94,8 +94,9 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
         settings_, cards, std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
     std::vector<const gpu::Buffer*> bufs = {
-        &objects->cardRelightList(), &lights_,        &objects->cardLight(), &scene.pageTables(),
-        &scene.distance(),           &scene.albedo(), &scene.emission(),     &scene.params()};
+        &objects->cardRelightList(), &lights_,         &objects->cardLight(),
+        &scene.pageTables(),         &scene.corners(), &scene.albedo(),
+        &scene.emission(),           &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
     bufs.push_back(&objects->cardNonFiniteCounter());
     const std::uint32_t groupsPerInstance = std::max(1u, (objects->maxCardTexels() + 63u) / 64u);

@@ -5,7 +5,7 @@
 // swizzles, no out parameters, f-suffixed literals, SDF_PRECISE where rounding decides a branch.
 //
 // The includer first includes sdf_layout.h, light_layout.h, color_codec.h and sdf_trace.glsl
-// (with SDF_PAGE, SDF_DIST_WORD, SDF_ALBEDO, SDF_EMISSION and SDF_CASCADE defined). For
+// (with SDF_PAGE, SDF_DIST_WORD or SDF_CELL_CORNERS, SDF_ALBEDO, SDF_EMISSION and SDF_CASCADE defined). For
 // lightCacheCellRadiance only (the light cache pass), it also defines
 //   LIGHT_AT(i)  -> GpuLight i (0 .. lightCount-1)
 //

@@ -23,6 +23,12 @@ SDF_CONST uint kBrickSamples = 9;           // samples per brick edge (cells + a
 SDF_CONST uint kBrickSampleCount = 729;     // 9³ distance samples
 SDF_CONST uint kBrickDistanceWords = 365;   // 729 fp16 values packed two per uint (last half unused)
 SDF_CONST uint kBrickMaterialCount = 512;   // 8³ material voxels, one per cell (cell-centred)
+// Cell corners: the same fp16 distances regrouped per trilinear cell, so a sample of the trace
+// reads one uvec4 (the 8 corners of its cell) instead of 8 scattered words. Cell x + 8(y + 8z)
+// holds (d000, d100), (d010, d110), (d001, d101), (d011, d111), low half first (dXYZ = the
+// sample at cell + (X, Y, Z)). Built on the GPU from the distance atlas (brick_corners.comp);
+// the values are bit for bit those of the distance atlas, so traces are unchanged.
+SDF_CONST uint kBrickCornerWords = 2048;  // 512 cells × 4 words
 
 // Distances are stored in voxel units (distance / voxelSize), fp16, clamped to +-kNarrowBand.
 // Three voxels is OpenVDB's default half-width (LEVEL_SET_HALF_WIDTH) and enough for the
@@ -89,6 +95,14 @@ struct TraceStackPushConstants {
   uint firstCascade;  // rays start in this cascade and go coarser (a probe of that cascade)
 };
 
+// Push constants of brick_corners.comp.
+struct BrickCornersPush {
+  uint slotCount;  // slots to regroup
+  uint listed;     // 1: the k-th slot is the slot list's entry k; 0: slot k itself
+  uint pad0;
+  uint pad1;
+};
+
 SDF_CONST uint kMaxCascades = 8;
 
 SDF_END_NAMESPACE
@@ -99,6 +113,9 @@ static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 20);
 static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 32);
+static_assert(sizeof(sdfstream::gpu_shared::BrickCornersPush) == 16);
+static_assert(sdfstream::gpu_shared::kBrickCornerWords ==
+              4 * sdfstream::gpu_shared::kBrickMaterialCount);
 static_assert(sdfstream::gpu_shared::kBrickSamples * sdfstream::gpu_shared::kBrickSamples *
                   sdfstream::gpu_shared::kBrickSamples ==
               sdfstream::gpu_shared::kBrickSampleCount);

@@ -86,7 +86,7 @@ std::vector<glm::vec3> sampleThroughInclude(gpu::Context& ctx, const test::GiHar
                                                     &irradiance,
                                                     &depth,
                                                     &h.scene->pageTables(),
-                                                    &h.scene->distance(),
+                                                    &h.scene->corners(),
                                                     &h.scene->params()};
   EXPECT_EQ(bindings.size(), kProbeBinding + kIncludeBuffers);
   const gpu::ComputePipeline pipeline(

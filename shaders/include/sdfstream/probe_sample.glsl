@@ -22,7 +22,7 @@
 //   3  SdfstreamProbeIrradiance  vec4 per irradiance texel       ProbeField irradiance (4)
 //   4  SdfstreamProbeDepth       vec2 per depth texel            ProbeField depth (5)
 //   5  SdfstreamPageTable        uint per page, all cascades     GpuStackScene pageTables (12)
-//   6  SdfstreamDistanceAtlas    uint: two fp16 distances        GpuStackScene distance (13)
+//   6  SdfstreamCornerAtlas      uvec4: a cell's 8 distances     GpuStackScene corners (13)
 //   7  SdfstreamCascades         CascadeTraceParams per cascade  GpuStackScene params (16)
 // The variables are sdfstreamProbeFrame, sdfstreamProbeVolumes[], ... sdfstreamCascades[]; the
 // bindings in parentheses are those of the library's own passes (shaders/probe_bindings.glsl). 5-7
@@ -66,14 +66,14 @@ SDFSTREAM_PROBE_BUFFER(2, SdfstreamProbeData, vec4 sdfstreamProbeData[]);
 SDFSTREAM_PROBE_BUFFER(3, SdfstreamProbeIrradiance, vec4 sdfstreamProbeIrradiance[]);
 SDFSTREAM_PROBE_BUFFER(4, SdfstreamProbeDepth, vec2 sdfstreamProbeDepth[]);
 SDFSTREAM_PROBE_BUFFER(5, SdfstreamPageTable, uint sdfstreamPageTable[]);
-SDFSTREAM_PROBE_BUFFER(6, SdfstreamDistanceAtlas, uint sdfstreamDistanceAtlas[]);
+SDFSTREAM_PROBE_BUFFER(6, SdfstreamCornerAtlas, uvec4 sdfstreamCornerAtlas[]);
 SDFSTREAM_PROBE_BUFFER(7, SdfstreamCascades, CascadeTraceParams sdfstreamCascades[]);
 #undef SDFSTREAM_PROBE_BUFFER
 
 // The storage macros of the math below (shaders/probe_field_storage.glsl defines the same names
 // for the library's passes). Sampling reads nothing else: no albedo, emission or light cache.
 #define SDF_PAGE(i) sdfstreamPageTable[i]
-#define SDF_DIST_WORD(i) sdfstreamDistanceAtlas[i]
+#define SDF_CELL_CORNERS(i) sdfstreamCornerAtlas[i]
 #define SDF_CASCADE(c) sdfstreamCascades[c]
 #define PROBE_VOLUME(c) sdfstreamProbeVolumes[c]
 #define PROBE_DATA(g) sdfstreamProbeData[g]
@@ -85,7 +85,7 @@ SDFSTREAM_PROBE_BUFFER(7, SdfstreamCascades, CascadeTraceParams sdfstreamCascade
 #include "shaders/probe_field.glsl"
 #include "shaders/probe_sample.glsl"
 #undef SDF_PAGE
-#undef SDF_DIST_WORD
+#undef SDF_CELL_CORNERS
 #undef SDF_CASCADE
 #undef PROBE_VOLUME
 #undef PROBE_DATA
