@@ -176,10 +176,11 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
       shadePushConstants(settings, count, lights.size(), scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
   if (surfaceBytes || deviceSurfaces) pc.options.z = gpu_shared::kShadePrimaryGiven;
+  pc.options.w = scene.cellCorners() ? 1u : 0u;
   std::vector<const gpu::Buffer*> bindings = {&rays,
                                               &shaded,
                                               &scene.pageTables(),
-                                              &scene.corners(),
+                                              &scene.traceAtlas(),
                                               &scene.albedo(),
                                               &scene.emission(),
                                               &scene.params(),

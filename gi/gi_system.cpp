@@ -283,8 +283,14 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
 
 std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {
   const auto probe = probes_.sampleBuffers();
-  return {probe[0],          probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
-          &scene_.corners(), &scene_.params()};
+  return {probe[0],
+          probe[1],
+          probe[2],
+          probe[3],
+          probe[4],
+          &scene_.pageTables(),
+          &scene_.traceAtlas(),
+          &scene_.params()};
 }
 
 std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {

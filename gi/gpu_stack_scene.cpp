@@ -77,15 +77,35 @@ std::size_t GpuStackScene::recordUploadAll(gpu::CommandBatch& batch, gpu::Stagin
   bytes += recordVector(context_, batch, staging, distance_, *image.distanceAtlas);
   bytes += recordVector(context_, batch, staging, albedo_, *image.albedoAtlas);
   bytes += recordVector(context_, batch, staging, emission_, *image.emissionAtlas);
+  ensureCorners(slotCount_);
   recordCorners(batch, staging, {}, true);
   return bytes;
+}
+
+void GpuStackScene::ensureCorners(std::uint32_t slots) {
+  const std::size_t bytes = std::max<std::size_t>(slots, 1) * kCornerWords * 4;
+  if (!cornersWanted_ || bytes > context_.properties().limits.maxStorageBufferRange) {
+    corners_ = gpu::Buffer();
+    cornersOn_ = false;
+    return;
+  }
+  cornersOn_ = true;
+  if (corners_ && corners_.size() >= bytes) return;
+  try {
+    corners_ = gpu::Buffer(context_, bytes, gpu::BufferKind::DeviceLocal);
+  } catch (const gpu::OutOfDeviceMemory&) {
+    // The traces read the distance atlas from now on: a corner atlas allocated later would hold
+    // nothing for the slots already uploaded.
+    corners_ = gpu::Buffer();
+    cornersOn_ = false;
+    cornersWanted_ = false;
+  }
 }
 
 void GpuStackScene::recordCorners(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                                   std::span<const std::uint32_t> slots, bool all) {
   const std::uint32_t count = all ? slotCount_ : std::uint32_t(slots.size());
-  ensure(context_, corners_, std::max<std::size_t>(slotCount_, 1) * kCornerWords * 4);
-  if (count == 0) return;
+  if (!cornersOn_ || count == 0) return;
   if (!cornersPipeline_)
     cornersPipeline_ = gpu::ComputePipeline(
         context_, gpu::ShaderId::brick_corners,
@@ -111,7 +131,7 @@ std::uint32_t GpuStackScene::reserveAtlas(std::uint32_t slots) {
       ensure(context_, distance_, std::size_t(slots) * kDistWords * 4);
       ensure(context_, albedo_, std::size_t(slots) * kMatWords * 4);
       ensure(context_, emission_, std::size_t(slots) * kMatWords * 4);
-      ensure(context_, corners_, std::size_t(slots) * kCornerWords * 4);
+      ensureCorners(slots);  // drops the corners rather than halving the slots
       slotCap_ = slots;
       return slots;
     } catch (const gpu::OutOfDeviceMemory&) {
@@ -142,6 +162,7 @@ std::size_t GpuStackScene::recordSync(gpu::CommandBatch& batch, gpu::StagingRing
   bytes += recordSlots(batch, staging, stack.atlasDistance(), distance_, kDistWords, dirty);
   bytes += recordSlots(batch, staging, stack.atlasAlbedo(), albedo_, kMatWords, dirty);
   bytes += recordSlots(batch, staging, stack.atlasEmission(), emission_, kMatWords, dirty);
+  ensureCorners(slotCount_);
   recordCorners(batch, staging, dirty, false);
   return bytes;
 }

@@ -1,9 +1,15 @@
 // The streamed cascade stack on the GPU: page tables, cascade params and the shared brick atlas
 // (distance, albedo, emission) in device buffers. One instance is shared by every pass that
 // reads the SDF (stack tracing, the light cache, the probe update), so the atlas is uploaded
-// once per frame, and only the slots the stack rewrote. Beside the distance atlas it keeps the
-// same distances regrouped by trilinear cell (corners(), sdf_layout.h kBrickCornerWords), built
-// on the GPU from each uploaded slot, for the passes that read a sample in one load.
+// once per frame, and only the slots the stack rewrote.
+//
+// Corner atlas. Beside the distance atlas it keeps, where it can, the same distances regrouped by
+// trilinear cell (sdf_layout.h kBrickCornerWords: 8 KiB a slot beside the distances' 1.46 KiB),
+// built on the GPU from each uploaded slot, so a trace reads a sample in one load instead of 8.
+// It is kept when asked for and when the device can bind it whole (slots x 8 KiB within
+// maxStorageBufferRange, which is 128 MiB on some devices: 16,384 slots) and allocate it;
+// otherwise the passes read the distance atlas. traceAtlas() is the one to bind, cellCorners()
+// says which it is (traces are the same either way, bit for bit).
 #pragma once
 
 #include <cstdint>
@@ -20,7 +26,8 @@ namespace sdfstream {
 
 class GpuStackScene {
  public:
-  explicit GpuStackScene(gpu::Context& context) : context_(context) {}
+  explicit GpuStackScene(gpu::Context& context, bool cellCorners = true)
+      : context_(context), cornersWanted_(cellCorners) {}
 
   // Timed passes an upload records into the caller's batch (the corners' regrouping).
   static constexpr std::uint32_t kUploadPasses = 1;
@@ -56,10 +63,15 @@ class GpuStackScene {
   const gpu::Buffer& albedo() const { return albedo_; }
   const gpu::Buffer& emission() const { return emission_; }
   const gpu::Buffer& params() const { return params_; }
-  // kBrickCornerWords per slot: the distance atlas by cell, rebuilt with every upload above.
+  // The atlas the tracing passes bind: the corner atlas when cellCorners(), else the distances.
+  const gpu::Buffer& traceAtlas() const { return cornersOn_ ? corners_ : distance_; }
+  bool cellCorners() const { return cornersOn_; }
+  // The corner atlas (empty when cellCorners() is false).
   const gpu::Buffer& corners() const { return corners_; }
 
  private:
+  // Sizes corners_ for `slots` (or drops it: not wanted, not bindable whole, out of memory).
+  void ensureCorners(std::uint32_t slots);
   // Regroups the listed slots (every slot when `all`) of the distance atlas into corners_.
   void recordCorners(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                      std::span<const std::uint32_t> slots, bool all);
@@ -69,6 +81,8 @@ class GpuStackScene {
   std::uint32_t cascadeCount_ = 0;
   std::uint32_t slotCount_ = 0;
   std::uint32_t slotCap_ = 0;  // reserveAtlas's slots; 0: as many as the stack has
+  bool cornersWanted_ = true;
+  bool cornersOn_ = false;
   gpu::Buffer pageTables_, distance_, albedo_, emission_, params_, corners_, cornerSlots_;
   gpu::ComputePipeline cornersPipeline_;  // created on the first upload
 };

@@ -3,13 +3,13 @@
 #include <stdexcept>
 
 namespace sdfstream {
-GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack)
+GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack, bool cellCorners)
     : context_(context),
       batch_(context),
       pipeline_(
           context, gpu::ShaderId::trace_stack,
           gpu::PipelineDesc{7, sizeof(gpu_shared::TraceStackPushConstants), glm::uvec3(64, 1, 1)}),
-      scene_(context) {
+      scene_(context, cellCorners) {
   scene_.sync(stack, {});
 }
 
@@ -22,13 +22,13 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
         "GpuStackTracer traces as probe rays do; camera rays descend in the shading pass");
   if (rays.empty()) return {};
   batch_.stage(rays);
-  gpu_shared::TraceStackPushConstants pc{std::uint32_t(rays.size()), settings.maxSteps,
-                                         settings.hitEpsilon, scene_.cascadeCount(),
-                                         settings.firstCascade};
+  gpu_shared::TraceStackPushConstants pc{
+      std::uint32_t(rays.size()), settings.maxSteps,     settings.hitEpsilon,
+      scene_.cascadeCount(),      settings.firstCascade, scene_.cellCorners() ? 1u : 0u};
   gpu::CommandBatch batch = context_.beginBatch();
   batch_.recordUpload(batch);
   batch.dispatch("trace_stack", pipeline_,
-                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.corners(),
+                 {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.traceAtlas(),
                   &scene_.albedo(), &scene_.emission(), &scene_.params()},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));
   batch_.recordReadback(batch);

@@ -19,7 +19,8 @@ namespace sdfstream {
 
 class GpuStackTracer {
  public:
-  GpuStackTracer(gpu::Context& context, const CascadeStack& stack);
+  // cellCorners: as GpuStackScene's (the traces are the same either way, bit for bit).
+  GpuStackTracer(gpu::Context& context, const CascadeStack& stack, bool cellCorners = true);
 
   // Uploads the stack's page tables, params and the given dirty atlas slots (from
   // CascadeStack::takeDirtySlots). Returns the bytes uploaded.

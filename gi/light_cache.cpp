@@ -74,14 +74,15 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     if (pageList_.size() < dirtyPages.size_bytes())
       pageList_ = gpu::Buffer(context_, dirtyPages.size_bytes(), gpu::BufferKind::DeviceLocal);
     staging.upload(batch, pageList_, dirtyPages);
-    const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
+    gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
         settings_, std::uint32_t(dirtyPages.size()), std::uint32_t(lights.size()),
         scene.cascadeCount(), sky, voxelSize0);
+    pc.params.z = scene.cellCorners() ? 1.0f : 0.0f;
     // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512
     // cells.
-    std::vector<const gpu::Buffer*> bufs = {&pageList_,          &lights_,         &radiance_,
-                                            &scene.pageTables(), &scene.corners(), &scene.albedo(),
-                                            &scene.emission(),   &scene.params()};
+    std::vector<const gpu::Buffer*> bufs = {
+        &pageList_,          &lights_,        &radiance_,        &scene.pageTables(),
+        &scene.traceAtlas(), &scene.albedo(), &scene.emission(), &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
     batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
                    glm::uvec3(64, std::uint32_t(dirtyPages.size()), 1));
@@ -91,12 +92,12 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     // enough for its largest card (one workgroup per instance ran five large objects' cards on
     // five SMs: 1.15 ms a frame on the H200); the light buffer is both the pass's output and the
     // object binding the probes read later.
-    const gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
+    gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
         settings_, cards, std::uint32_t(lights.size()), scene.cascadeCount(), sky, voxelSize0);
+    pc.params.z = scene.cellCorners() ? 1.0f : 0.0f;
     std::vector<const gpu::Buffer*> bufs = {
-        &objects->cardRelightList(), &lights_,         &objects->cardLight(),
-        &scene.pageTables(),         &scene.corners(), &scene.albedo(),
-        &scene.emission(),           &scene.params()};
+        &objects->cardRelightList(), &lights_,        &objects->cardLight(), &scene.pageTables(),
+        &scene.traceAtlas(),         &scene.albedo(), &scene.emission(),     &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
     bufs.push_back(&objects->cardNonFiniteCounter());
     const std::uint32_t groupsPerInstance = std::max(1u, (objects->maxCardTexels() + 63u) / 64u);

@@ -90,7 +90,7 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                        &statsBuffer_,
                                        &pageChanged_,
                                        &scene.pageTables(),
-                                       &scene.corners(),
+                                       &scene.traceAtlas(),
                                        &scene.albedo(),
                                        &scene.emission(),
                                        &scene.params(),
@@ -148,6 +148,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   growBounceCells(batch, scene);
+  if (scene.cellCorners()) lastFrame_.constants.options.x |= gpu_shared::kProbeOptionCellCorners;
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |=
         gpu_shared::kProbeOptionObjects |

@@ -7,7 +7,8 @@
 // + its index at that level, lit at the card texel cardLightTexel picks. Instances not listed keep
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
-// as object binding 15), 3 page tables, 4 corner atlas (the distances by cell), 5 albedo atlas, 6 emission atlas,
+// as object binding 15), 3 page tables, 4 distance atlas, or
+// the corner atlas (the distances by cell) where the push constants say so, 5 albedo atlas, 6 emission atlas,
 // 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl), 16 the count
 // of texels whose light came out NaN or infinite (packing would hide them as black or white).
 #extension GL_GOOGLE_include_directive : require
@@ -22,6 +23,7 @@ layout(std430, binding = 0) readonly buffer RelightList { uint relightList[]; };
 layout(std430, binding = 1) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 2) writeonly buffer CardLightOut { uint cardLightOut[]; };
 layout(std430, binding = 3) readonly buffer PageTable { uint pageTable[]; };
+layout(std430, binding = 4) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
 layout(std430, binding = 4) readonly buffer CornerAtlas { uvec4 cornerAtlas[]; };
 layout(std430, binding = 5) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
 layout(std430, binding = 6) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
@@ -31,7 +33,9 @@ layout(std430, binding = 16) buffer CardNonFinite { uint cardNonFinite; };
 layout(push_constant) uniform Push { LightCachePushConstants pc; };
 
 #define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
+#define SDF_CELL_CORNERS_ON (pc.params.z != 0.0)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

@@ -11,7 +11,8 @@
 // surface cells into shared memory, then lights them 64 at a time with full warps. Each cell's
 // value is lightCacheCellRadiance's, as before: only the order of work changed.
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
-// 2 light atlas (written), 3 page tables, 4 corner atlas (the distances by cell), 5 albedo atlas, 6 emission atlas,
+// 2 light atlas (written), 3 page tables, 4 distance atlas, or
+// the corner atlas (the distances by cell) where the push constants say so, 5 albedo atlas, 6 emission atlas,
 // 7 cascade params (as trace_stack.comp), 8-15 moving objects (object_bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
 
@@ -25,6 +26,7 @@ layout(std430, binding = 0) readonly buffer PageList { uint pageList[]; };
 layout(std430, binding = 1) readonly buffer Lights { GpuLight lights[]; };
 layout(std430, binding = 2) writeonly buffer LightAtlas { uint lightAtlas[]; };
 layout(std430, binding = 3) readonly buffer PageTable { uint pageTable[]; };
+layout(std430, binding = 4) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
 layout(std430, binding = 4) readonly buffer CornerAtlas { uvec4 cornerAtlas[]; };
 layout(std430, binding = 5) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
 layout(std430, binding = 6) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
@@ -33,7 +35,9 @@ layout(std430, binding = 7) readonly buffer Cascades { CascadeTraceParams cascad
 layout(push_constant) uniform Push { LightCachePushConstants pc; };
 
 #define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
+#define SDF_CELL_CORNERS_ON (pc.params.z != 0.0)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

@@ -7,9 +7,12 @@
 //
 // The includer defines, before including:
 //   SDF_PAGE(i)       -> uint page-table entry i (0..4095)
-//   SDF_DIST_WORD(i)  -> uint word i of the distance atlas (two fp16 per word), or instead
-//   SDF_CELL_CORNERS(i) -> uvec4 cell i of the corner atlas (the same distances by cell,
-//                        sdf_layout.h kBrickCornerWords; GLSL passes: one load a sample)
+//   SDF_DIST_WORD(i)  -> uint word i of the distance atlas (two fp16 per word)
+// and, optionally (GLSL passes), where the device holds the same distances by cell as well
+// (gi/gpu_stack_scene.h, sdf_layout.h kBrickCornerWords: one load a sample instead of 8):
+//   SDF_CELL_CORNERS(i) -> uvec4 cell i of the corner atlas
+//   SDF_CELL_CORNERS_ON -> a uniform bool: read the corner atlas (the pass's one binding holds
+//                          either atlas; both buffer blocks alias it)
 //   SDF_ALBEDO(i)     -> uint RGBA8 of material voxel i of the atlas
 //   SDF_EMISSION(i)   -> uint RGB9E5 of material voxel i of the atlas
 // and, for the multi-cascade traversal sdfTraceStack only:
@@ -48,19 +51,16 @@ uint sdfPageIndex(ivec3 page, uvec4 toroidalOffset) {
   return toroidalOffset.w + x + 16u * (y + 16u * z);
 }
 
-#ifndef SDF_CELL_CORNERS
 float sdfBrickDistance(uint slot, uint sx, uint sy, uint sz) {
   uint i = sx + 9u * (sy + 9u * sz);
   uint word = SDF_DIST_WORD(slot * 365u + (i >> 1u));
   vec2 pair = unpackHalf2x16(word);
   return (i & 1u) == 0u ? pair.x : pair.y;
 }
-#endif
 
 // Trilinear interpolation of the 9³ samples of one brick at local position q in [0,8]³.
-// An includer that defines SDF_CELL_CORNERS(i) (-> uvec4 cell i of the corner atlas, sdf_layout.h
-// kBrickCornerWords) reads a cell's 8 samples in one load instead of 8: the same fp16 values, so
-// the same result bit for bit.
+// Where SDF_CELL_CORNERS_ON holds, a cell's 8 samples come from the corner atlas in one load
+// instead of 8 (see the top of this file): the same fp16 values, so the same result bit for bit.
 float sdfBrickTrilinear(uint slot, vec3 q) {
   vec3 c = clamp(q, vec3(0.0f), vec3(7.999f));
   uint x0 = uint(c.x);
@@ -72,30 +72,34 @@ float sdfBrickTrilinear(uint slot, vec3 q) {
   fx = clamp(fx, 0.0f, 1.0f);
   fy = clamp(fy, 0.0f, 1.0f);
   fz = clamp(fz, 0.0f, 1.0f);
+  float d000, d100, d010, d110, d001, d101, d011, d111;
 #ifdef SDF_CELL_CORNERS
-  uvec4 corners = SDF_CELL_CORNERS(slot * kBrickMaterialCount + x0 + 8u * (y0 + 8u * z0));
-  vec2 x00 = unpackHalf2x16(corners.x);
-  vec2 x10 = unpackHalf2x16(corners.y);
-  vec2 x01 = unpackHalf2x16(corners.z);
-  vec2 x11 = unpackHalf2x16(corners.w);
-  float d000 = x00.x;
-  float d100 = x00.y;
-  float d010 = x10.x;
-  float d110 = x10.y;
-  float d001 = x01.x;
-  float d101 = x01.y;
-  float d011 = x11.x;
-  float d111 = x11.y;
-#else
-  float d000 = sdfBrickDistance(slot, x0, y0, z0);
-  float d100 = sdfBrickDistance(slot, x0 + 1u, y0, z0);
-  float d010 = sdfBrickDistance(slot, x0, y0 + 1u, z0);
-  float d110 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0);
-  float d001 = sdfBrickDistance(slot, x0, y0, z0 + 1u);
-  float d101 = sdfBrickDistance(slot, x0 + 1u, y0, z0 + 1u);
-  float d011 = sdfBrickDistance(slot, x0, y0 + 1u, z0 + 1u);
-  float d111 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0 + 1u);
+  if (SDF_CELL_CORNERS_ON) {
+    uvec4 corners = SDF_CELL_CORNERS(slot * kBrickMaterialCount + x0 + 8u * (y0 + 8u * z0));
+    vec2 x00 = unpackHalf2x16(corners.x);
+    vec2 x10 = unpackHalf2x16(corners.y);
+    vec2 x01 = unpackHalf2x16(corners.z);
+    vec2 x11 = unpackHalf2x16(corners.w);
+    d000 = x00.x;
+    d100 = x00.y;
+    d010 = x10.x;
+    d110 = x10.y;
+    d001 = x01.x;
+    d101 = x01.y;
+    d011 = x11.x;
+    d111 = x11.y;
+  } else
 #endif
+  {
+    d000 = sdfBrickDistance(slot, x0, y0, z0);
+    d100 = sdfBrickDistance(slot, x0 + 1u, y0, z0);
+    d010 = sdfBrickDistance(slot, x0, y0 + 1u, z0);
+    d110 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0);
+    d001 = sdfBrickDistance(slot, x0, y0, z0 + 1u);
+    d101 = sdfBrickDistance(slot, x0 + 1u, y0, z0 + 1u);
+    d011 = sdfBrickDistance(slot, x0, y0 + 1u, z0 + 1u);
+    d111 = sdfBrickDistance(slot, x0 + 1u, y0 + 1u, z0 + 1u);
+  }
   SDF_PRECISE float a = d000 + (d100 - d000) * fx;
   SDF_PRECISE float b = d010 + (d110 - d010) * fx;
   SDF_PRECISE float c2 = d001 + (d101 - d001) * fx;

@@ -1,7 +1,8 @@
 #version 450
 // Primary-hit shading of the demo frames (demo/gi_shading.h; math in shade_primary.glsl, shared
 // with the CPU reference): one invocation per camera ray, spread over rows of 64 x 16384 threads.
-// Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 corner atlas (the distances by cell), 4 albedo atlas,
+// Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 distance atlas, or
+// the corner atlas (the distances by cell) where the push constants say so, 4 albedo atlas,
 // 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance,
 // 9-16 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none),
 // 17 given primary surfaces (read with options.z == kShadePrimaryGiven, one per ray).
@@ -17,6 +18,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Rays { TraceRay rays[]; };
 layout(std430, binding = 1) writeonly buffer Shaded { ShadedHit shaded[]; };
 layout(std430, binding = 2) readonly buffer PageTable { uint pageTable[]; };
+layout(std430, binding = 3) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
 layout(std430, binding = 3) readonly buffer CornerAtlas { uvec4 cornerAtlas[]; };
 layout(std430, binding = 4) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
 layout(std430, binding = 5) readonly buffer EmissionAtlas { uint emissionAtlas[]; };
@@ -28,7 +30,9 @@ layout(std430, binding = 17) readonly buffer Surfaces { PrimarySurface surfaces[
 layout(push_constant) uniform Push { ShadePushConstants pc; };
 
 #define SDF_PAGE(i) pageTable[i]
+#define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
+#define SDF_CELL_CORNERS_ON (pc.options.w != 0u)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

@@ -41,7 +41,9 @@ struct GpuSky {
 struct LightCachePushConstants {
   uvec4 counts;  // x: listed pages; y: lights (<= kMaxLights); z: cascades; w: max shadow steps
                  //                                                                    (0..15)
-  vec4 params;   // x: cascade-0 voxel size in metres; y: hit epsilon (voxels); zw: 0   (16..31)
+  vec4 params;   // x: cascade-0 voxel size in metres; y: hit epsilon (voxels); z: 1 when the
+                 // atlas binding holds the corner atlas (gi/gpu_stack_scene.h), else 0; w: 0
+                 //                                                                   (16..31)
   GpuSky sky;    // not added to the cells (probe rays that miss see it; adding it here would
                  // count it twice); carried for passes that share these constants     (32..63)
 };

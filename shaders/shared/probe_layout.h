@@ -134,6 +134,8 @@ SDF_CONST uint kProbeOptionSdfPerQuery = 32768u;
 // shared bit 12 with kProbeOptionSdfEverywhere, which turned SDF visibility on everywhere
 // whenever cascade 0 listed an object).
 SDF_CONST uint kProbeObjectMaskShift = 16u;
+// The atlas binding holds the corner atlas (gi/gpu_stack_scene.h), not the distance atlas.
+SDF_CONST uint kProbeOptionCellCorners = 1048576u;  // bit 20, above the object mask
 
 // Push constants of every probe field pass: which sub-pass, how many threads.
 SDF_CONST uint kProbeSelectModeCount = 0u;    // probe_select.comp: count wanted probes per class
@@ -216,6 +218,9 @@ static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, worldToStack) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ProbePushConstants) == 16);
 static_assert(sdfstream::gpu_shared::kProbeOptionSdfPerQuery <
               (1u << sdfstream::gpu_shared::kProbeObjectMaskShift));  // no option in the mask
+static_assert(sdfstream::gpu_shared::kProbeOptionCellCorners ==
+              (1u << (sdfstream::gpu_shared::kProbeObjectMaskShift +
+                      4u)));  // past the mask's 4 bits
 static_assert(sizeof(sdfstream::gpu_shared::ProbeQuery) == 48);
 static_assert(sdfstream::gpu_shared::kProbeBlendTexelsPerProbe ==
               sdfstream::gpu_shared::kProbeIrradianceInterior *

@@ -93,6 +93,8 @@ struct TraceStackPushConstants {
   float hitEpsilon;
   uint cascadeCount;
   uint firstCascade;  // rays start in this cascade and go coarser (a probe of that cascade)
+  uint cellCorners;   // 1: the atlas binding holds the corner atlas (kBrickCornerWords), 0: the
+                      // distance atlas
 };
 
 // Push constants of brick_corners.comp.
@@ -109,7 +111,7 @@ SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 static_assert(sizeof(sdfstream::gpu_shared::CascadeTraceParams) == 32);
-static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 20);
+static_assert(sizeof(sdfstream::gpu_shared::TraceStackPushConstants) == 24);
 static_assert(sizeof(sdfstream::gpu_shared::TraceRay) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TraceHit) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::TracePushConstants) == 32);

@@ -36,7 +36,8 @@ struct ShadePushConstants {
   uvec4 counts;   // x: rays; y: lights (<= kMaxLights); z: cascades; w: trace max steps (0..15)
   vec4 params;    // x: cascade-0 voxel size (m); y: trace hit epsilon (voxels);
                   // z: shadow hit epsilon (voxels); w unused                        (16..31)
-  uvec4 options;  // x: kShadeDirect*; y: shadow max steps; z: kShadePrimary*; w unused (32..47)
+  uvec4 options;  // x: kShadeDirect*; y: shadow max steps; z: kShadePrimary*; w: 1 when the
+                  // atlas binding holds the corner atlas (gi/gpu_stack_scene.h), else 0 (32..47)
   GpuSky sky;     // seen by rays that miss                                          (48..79)
   // Stack-space AABB of every moving object's bounds (ObjectInstanceGpu boundsMin/Max), padded;
   // min > max when there are none. Rays, primary or shadow, search the objects only over their

@@ -6,11 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <vector>
 
 #include <glm/gtc/packing.hpp>
 
 #include "gi/gpu_stack_scene.h"
+#include "gi/gpu_stack_tracer.h"
 #include "tests/support/gpu_test.h"
 #include "tests/support/streamed_bunny.h"
 
@@ -82,6 +84,59 @@ TEST_F(BrickCorners, EqualTheDistanceAtlasRegroupedByCell) {
       slotCount, wholeDiffer, listed.size(), syncedDiffer);
   EXPECT_EQ(wholeDiffer, 0u);
   EXPECT_EQ(syncedDiffer, 0u);
+}
+
+// The same camera rays traced through the corner atlas and through the distance atlas: the same
+// fp16 values interpolated the same way, so every hit is the same to the bit.
+TEST_F(BrickCorners, TracesAreTheSameThroughEitherAtlas) {
+  test::StreamedBunny b = test::streamBunny();
+  const CascadeStackImage img = b.stack->stackImage();
+  std::vector<std::uint32_t> all(b.stack->atlasDistance().size() / gs::kBrickDistanceWords);
+  for (std::uint32_t s = 0; s < all.size(); ++s) all[s] = s;
+  GpuStackTracer corners(ctx(), *b.stack, true), words(ctx(), *b.stack, false);
+  corners.sync(*b.stack, all);
+  words.sync(*b.stack, all);
+  ASSERT_TRUE(corners.scene().cellCorners());
+  ASSERT_FALSE(words.scene().cellCorners());
+  ASSERT_FALSE(words.scene().corners());
+
+  std::vector<gs::TraceRay> rays;
+  const glm::vec3 from = img.toStack(b.camera);
+  const glm::vec3 lo = img.toStack(glm::dvec3(b.triangles.boundsMin()));
+  const glm::vec3 hi = img.toStack(glm::dvec3(b.triangles.boundsMax()));
+  for (int i = 0; i < 4096; ++i) {
+    const glm::vec3 f(float(i % 64) / 63.0f, float(i / 64) / 63.0f, 0.5f);
+    gs::TraceRay r{};
+    r.originTMin = glm::vec4(from, 0.0f);
+    r.dirTMax = glm::vec4(glm::normalize(lo + (hi - lo) * f - from), 1e30f);
+    rays.push_back(r);
+  }
+  const auto a = corners.trace(rays, TraceSettings{});
+  const auto w = words.trace(rays, TraceSettings{});
+  std::size_t hits = 0, differ = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    hits += (a[i].flags & gs::kHitFlagHit) ? 1 : 0;
+    differ += std::memcmp(&a[i], &w[i], sizeof a[i]) != 0 ? 1 : 0;
+  }
+  std::printf("[figures] %zu rays, %zu hits: %zu differ between the atlases\n", rays.size(), hits,
+              differ);
+  EXPECT_GT(hits, rays.size() / 4);
+  EXPECT_EQ(differ, 0u);
+}
+
+// An atlas whose corners the device cannot bind whole (maxStorageBufferRange) traces through the
+// distance atlas instead.
+TEST_F(BrickCorners, AnAtlasTooLargeToBindTracesThroughTheDistances) {
+  const std::uint64_t range = ctx().properties().limits.maxStorageBufferRange;
+  const std::uint64_t fit = range / (gs::kBrickCornerWords * 4);
+  if (fit > 32768) GTEST_SKIP() << "this device binds " << fit << " slots of corners";
+  GpuStackScene fits(ctx()), tooLarge(ctx());
+  fits.reserveAtlas(std::uint32_t(fit));
+  tooLarge.reserveAtlas(std::uint32_t(fit + 1));
+  EXPECT_TRUE(fits.cellCorners());
+  EXPECT_EQ(&fits.traceAtlas(), &fits.corners());
+  EXPECT_FALSE(tooLarge.cellCorners());
+  EXPECT_EQ(&tooLarge.traceAtlas(), &tooLarge.distance());
 }
 
 }  // namespace
