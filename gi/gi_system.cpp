@@ -33,7 +33,7 @@ double totalMilliseconds(const std::vector<gpu::PassTiming>& passes) {
 
 GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint32_t cascades)
     : context_(context),
-      scene_(context),
+      scene_(context, settings.cellCorners),
       light_(context, settings.light),
       probes_(context, settings.probes, cascades),
       objects_(context, settings.objects),
@@ -283,14 +283,8 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
 
 std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {
   const auto probe = probes_.sampleBuffers();
-  return {probe[0],
-          probe[1],
-          probe[2],
-          probe[3],
-          probe[4],
-          &scene_.pageTables(),
-          &scene_.traceAtlas(),
-          &scene_.params()};
+  return {probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),
+          &scene_.distance(), &scene_.params()};
 }
 
 std::array<VkDescriptorBufferInfo, GiSystem::kSampleBindingCount> GiSystem::sampleBindings() const {

@@ -76,7 +76,7 @@ void ProbeField::reset() {
 }
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
-                                                     const gpu::Buffer& light) {
+                                                     const gpu::Buffer& light, bool distanceAtlas) {
   std::vector<const gpu::Buffer*> b = {&frame_,
                                        &volumes_,
                                        &data_,
@@ -90,7 +90,7 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                        &statsBuffer_,
                                        &pageChanged_,
                                        &scene.pageTables(),
-                                       &scene.traceAtlas(),
+                                       distanceAtlas ? &scene.distance() : &scene.traceAtlas(),
                                        &scene.albedo(),
                                        &scene.emission(),
                                        &scene.params(),
@@ -228,7 +228,7 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   pc.dispatch = glm::uvec4(0u, std::uint32_t(queries.size()), 0u, 0u);
   gpu::CommandBatch batch = context_.beginBatch();
   queries_.recordCopy(batch, qBytes);
-  batch.dispatch("probe_sample", sample_, bindings(scene, light), &pc, sizeof pc,
+  batch.dispatch("probe_sample", sample_, bindings(scene, light, true), &pc, sizeof pc,
                  spread(pc.dispatch.y));
   results_.recordCopy(batch, rBytes);
   batch.submitAndWait();

@@ -98,8 +98,10 @@ class ProbeField {
   RayRecords downloadRays(std::uint32_t listed) const;
 
  private:
+  // distanceAtlas: bind the stack's distance atlas, not the one it traces (probe_sample.comp).
   std::vector<const gpu::Buffer*> bindings(const GpuStackScene& scene,
-                                           const gpu::Buffer& lightRadiance);
+                                           const gpu::Buffer& lightRadiance,
+                                           bool distanceAtlas = false);
   // Sizes the bounce cells to the scene's atlas (new cells empty; recorded into `batch`).
   void growBounceCells(gpu::CommandBatch& batch, const GpuStackScene& scene);
 

@@ -86,7 +86,7 @@ std::vector<glm::vec3> sampleThroughInclude(gpu::Context& ctx, const test::GiHar
                                                     &irradiance,
                                                     &depth,
                                                     &h.scene->pageTables(),
-                                                    &h.scene->traceAtlas(),
+                                                    &h.scene->distance(),
                                                     &h.scene->params()};
   EXPECT_EQ(bindings.size(), kProbeBinding + kIncludeBuffers);
   const gpu::ComputePipeline pipeline(
@@ -153,8 +153,6 @@ TEST_F(ProbeSampleIncludeTest, EngineShaderMatchesProbeFieldSample) {
     withSky.sky = h.sky;
     frame = replay.build(img, withSky, f);
   }
-  // ProbeField::record adds which atlas the scene traces; the include reads it from the frame.
-  if (h.scene->cellCorners()) frame.constants.options.x |= gpu_shared::kProbeOptionCellCorners;
 
   // Field coordinates.
   const std::vector<gpu_shared::ProbeQuery> queries = sceneQueries(img);

@@ -22,14 +22,11 @@
 //   3  SdfstreamProbeIrradiance  vec4 per irradiance texel       ProbeField irradiance (4)
 //   4  SdfstreamProbeDepth       vec2 per depth texel            ProbeField depth (5)
 //   5  SdfstreamPageTable        uint per page, all cascades     GpuStackScene pageTables (12)
-//   6  SdfstreamDistanceAtlas    uint: two fp16 distances, or    GpuStackScene traceAtlas (13)
-//      (SdfstreamCornerAtlas)   uvec4: a cell's 8 distances
+//   6  SdfstreamDistanceAtlas    uint: two fp16 distances        GpuStackScene distance (13)
 //   7  SdfstreamCascades         CascadeTraceParams per cascade  GpuStackScene params (16)
 // The variables are sdfstreamProbeFrame, sdfstreamProbeVolumes[], ... sdfstreamCascades[]; the
 // bindings in parentheses are those of the library's own passes (shaders/probe_bindings.glsl). 5-7
-// serve the SDF visibility test (SDFDDGI Sec. 4.2); 6 is whichever atlas the stack scene traces
-// (GpuStackScene::traceAtlas: the distances by cell where the device holds them, and then the
-// frame's options carry kProbeOptionCellCorners). All must hold the same frame: the field's
+// serve the SDF visibility test (SDFDDGI Sec. 4.2). All must hold the same frame: the field's
 // buffers after its update, the stack scene synced to the stack that update saw.
 //
 // Functions:
@@ -70,7 +67,6 @@ SDFSTREAM_PROBE_BUFFER(3, SdfstreamProbeIrradiance, vec4 sdfstreamProbeIrradianc
 SDFSTREAM_PROBE_BUFFER(4, SdfstreamProbeDepth, vec2 sdfstreamProbeDepth[]);
 SDFSTREAM_PROBE_BUFFER(5, SdfstreamPageTable, uint sdfstreamPageTable[]);
 SDFSTREAM_PROBE_BUFFER(6, SdfstreamDistanceAtlas, uint sdfstreamDistanceAtlas[]);
-SDFSTREAM_PROBE_BUFFER(6, SdfstreamCornerAtlas, uvec4 sdfstreamCornerAtlas[]);
 SDFSTREAM_PROBE_BUFFER(7, SdfstreamCascades, CascadeTraceParams sdfstreamCascades[]);
 #undef SDFSTREAM_PROBE_BUFFER
 
@@ -78,8 +74,6 @@ SDFSTREAM_PROBE_BUFFER(7, SdfstreamCascades, CascadeTraceParams sdfstreamCascade
 // for the library's passes). Sampling reads nothing else: no albedo, emission or light cache.
 #define SDF_PAGE(i) sdfstreamPageTable[i]
 #define SDF_DIST_WORD(i) sdfstreamDistanceAtlas[i]
-#define SDF_CELL_CORNERS(i) sdfstreamCornerAtlas[i]
-#define SDF_CELL_CORNERS_ON ((sdfstreamProbeFrame.options.x & kProbeOptionCellCorners) != 0u)
 #define SDF_CASCADE(c) sdfstreamCascades[c]
 #define PROBE_VOLUME(c) sdfstreamProbeVolumes[c]
 #define PROBE_DATA(g) sdfstreamProbeData[g]
@@ -92,8 +86,6 @@ SDFSTREAM_PROBE_BUFFER(7, SdfstreamCascades, CascadeTraceParams sdfstreamCascade
 #include "shaders/probe_sample.glsl"
 #undef SDF_PAGE
 #undef SDF_DIST_WORD
-#undef SDF_CELL_CORNERS
-#undef SDF_CELL_CORNERS_ON
 #undef SDF_CASCADE
 #undef PROBE_VOLUME
 #undef PROBE_DATA
