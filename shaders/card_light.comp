@@ -7,8 +7,9 @@
 // + its index at that level, lit at the card texel cardLightTexel picks. Instances not listed keep
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
-// as object binding 15), 3 page tables, 4 distance atlas, or
-// the corner atlas (the distances by cell) where the push constants say so, 5 albedo atlas, 6 emission atlas,
+// as object binding 15), 3 page tables, 4 distance atlas (or,
+// where the push constants say so, the corner atlas: the same distances by cell), 5 albedo
+// atlas, 6 emission atlas,
 // 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl), 16 the count
 // of texels whose light came out NaN or infinite (packing would hide them as black or white).
 #extension GL_GOOGLE_include_directive : require

@@ -11,8 +11,9 @@
 // surface cells into shared memory, then lights them 64 at a time with full warps. Each cell's
 // value is lightCacheCellRadiance's, as before: only the order of work changed.
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
-// 2 light atlas (written), 3 page tables, 4 distance atlas, or
-// the corner atlas (the distances by cell) where the push constants say so, 5 albedo atlas, 6 emission atlas,
+// 2 light atlas (written), 3 page tables, 4 distance atlas (or,
+// where the push constants say so, the corner atlas: the same distances by cell), 5 albedo
+// atlas, 6 emission atlas,
 // 7 cascade params (as trace_stack.comp), 8-15 moving objects (object_bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
 

@@ -5,8 +5,8 @@
 // swizzles, no out parameters, f-suffixed literals, SDF_PRECISE where rounding decides a branch.
 //
 // The includer first includes sdf_layout.h, light_layout.h, color_codec.h and sdf_trace.glsl
-// (with SDF_PAGE, SDF_DIST_WORD or SDF_CELL_CORNERS, SDF_ALBEDO, SDF_EMISSION and SDF_CASCADE defined). For
-// lightCacheCellRadiance only (the light cache pass), it also defines
+// (with SDF_PAGE, SDF_DIST_WORD (and optionally SDF_CELL_CORNERS), SDF_ALBEDO, SDF_EMISSION and
+// SDF_CASCADE defined). For lightCacheCellRadiance only (the light cache pass), it also defines
 //   LIGHT_AT(i)  -> GpuLight i (0 .. lightCount-1)
 //
 // Units: positions are cascade-0 voxels relative to cascade 0's minimum corner (the stack

@@ -4,7 +4,7 @@
 //   PROBE_VOLUME(c)  -> ProbeVolume of cascade c
 //   PROBE_DATA(g)    -> vec4 of global probe g (offset, state)
 //   PROBE_IRRADIANCE(i), PROBE_DEPTH(i) through shaders/probe_update.glsl
-//   SDF_CASCADE(c), SDF_PAGE(i), SDF_DIST_WORD(i) or SDF_CELL_CORNERS(i) through sdfTraceStackFrom (SDF visibility)
+//   SDF_CASCADE(c), SDF_PAGE(i), SDF_DIST_WORD(i) through sdfTraceStackFrom (SDF visibility)
 // after shaders/probe_field.glsl, shaders/sdf_trace.glsl (SDF_CASCADE defined) and
 // shaders/probe_update.glsl (PROBE_DEPTH defined).
 

@@ -2,8 +2,8 @@
 // Sphere-traces rays through the whole cascade stack (sdfTraceStack in sdf_trace.glsl, shared
 // with the CPU reference gi/cpu_tracer.cpp). Rays and hit distances are in cascade-0 voxels
 // relative to cascade 0's minimum corner. Bindings: 0 rays, 1 hits, 2 page tables (cascade-major,
-// 4096 entries each), 3 distance atlas or, with pc.cellCorners, the corner atlas (the distances by cell), 4 albedo atlas,
-// 5 emission atlas, 6 cascade params.
+// 4096 entries each), 3 distance atlas or, with pc.cellCorners, the corner atlas (the distances
+// by cell), 4 albedo atlas, 5 emission atlas, 6 cascade params.
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
