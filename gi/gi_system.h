@@ -50,9 +50,10 @@ struct GiSettings {
   std::uint32_t lightSwitchCatchUpFrames = 6;
   std::uint32_t lightSwitchUpdatesPerFrame = 3;
   // Keep the atlas's distances by trilinear cell as well (GpuStackScene, "Corner atlas"): every
-  // tracing pass then reads a sample in one load instead of 8, for 8 KiB of device memory per
-  // atlas slot beside the slot's 5.5 KiB (distances, albedo, emission), where the device can
-  // bind it. Off: the passes read the distance atlas; results are the same to the bit.
+  // tracing pass but sampling (whose code it slowed) then reads a sample in one load instead of
+  // 8, for 8 KiB of device memory per atlas slot beside the slot's 5.5 KiB (distances, albedo,
+  // emission), where the device can bind it. Off: the passes read the distance atlas; results
+  // are the same to the bit.
   bool cellCorners = true;
 };
 
