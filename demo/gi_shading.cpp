@@ -176,6 +176,7 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
       shadePushConstants(settings, count, lights.size(), scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
   if (surfaceBytes || deviceSurfaces) pc.options.z = gpu_shared::kShadePrimaryGiven;
+  // What is bound, for captures and tools: the pipeline variant, not this, decides what is read.
   pc.options.w = scene.cellCorners() ? 1u : 0u;
   std::vector<const gpu::Buffer*> bindings = {&rays,
                                               &shaded,
@@ -192,7 +193,7 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
   bindings.push_back(deviceSurfaces ? deviceSurfaces
                      : surfaceBytes ? &surfaces_.device()
                                     : &noSurfaces_);
-  batch.dispatch("shade_primary", pipeline_, bindings, &pc, sizeof pc,
+  batch.dispatch("shade_primary", pipeline_.get(scene.cellCorners()), bindings, &pc, sizeof pc,
                  shade_detail::spread(pc.counts.x));
 }
 

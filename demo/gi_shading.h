@@ -105,7 +105,7 @@ class PrimaryShadePass {
 
  private:
   gpu::Context& context_;
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipelinePair pipeline_;           // specialized on the atlas the scene traces
   gpu::StagedBuffer rays_, shaded_, surfaces_;  // device-local for the pass (staged_buffer.h)
   gpu::Buffer lights_, noRadiance_, noSurfaces_;
   NoObjectsBindings noObjects_;  // bound at 9-16 when there are no objects

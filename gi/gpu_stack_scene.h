@@ -9,8 +9,9 @@
 // It is kept when asked for and when the device can bind it whole (slots x 8 KiB within
 // maxStorageBufferRange, which is 128 MiB on some devices: 16,384 slots) and allocate it;
 // otherwise the passes read the distance atlas. traceAtlas() is the one to bind, cellCorners()
-// says which it is (traces are the same either way, bit for bit); sampling and the engine's
-// include always bind distance().
+// says which it is, and a tracing pass uses its pipeline specialized for that atlas
+// (gpu::ComputePipelinePair; traces are the same either way, bit for bit); sampling and the
+// engine's include always bind distance().
 #pragma once
 
 #include <cstdint>

@@ -27,7 +27,7 @@ std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shar
       scene_.cascadeCount(),      settings.firstCascade, scene_.cellCorners() ? 1u : 0u};
   gpu::CommandBatch batch = context_.beginBatch();
   batch_.recordUpload(batch);
-  batch.dispatch("trace_stack", pipeline_,
+  batch.dispatch("trace_stack", pipeline_.get(scene_.cellCorners()),
                  {&batch_.rays(), &batch_.hits(), &scene_.pageTables(), &scene_.traceAtlas(),
                   &scene_.albedo(), &scene_.emission(), &scene_.params()},
                  &pc, sizeof pc, glm::uvec3(pc.rayCount, 1, 1));

@@ -38,7 +38,7 @@ class GpuStackTracer {
  private:
   gpu::Context& context_;
   RayBatch batch_;
-  gpu::ComputePipeline pipeline_;
+  gpu::ComputePipelinePair pipeline_;  // specialized on the atlas the scene traces
   GpuStackScene scene_;
   std::vector<gpu::PassTiming> timings_;
 };

@@ -77,6 +77,7 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
         settings_, std::uint32_t(dirtyPages.size()), std::uint32_t(lights.size()),
         scene.cascadeCount(), sky, voxelSize0);
+    // What is bound, for captures and tools: the pipeline variant, not this, decides what is read.
     pc.params.z = scene.cellCorners() ? 1.0f : 0.0f;
     // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512
     // cells.
@@ -84,7 +85,7 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
         &pageList_,          &lights_,        &radiance_,        &scene.pageTables(),
         &scene.traceAtlas(), &scene.albedo(), &scene.emission(), &scene.params()};
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
-    batch.dispatch("light_cache", pipeline_, bufs, &pc, sizeof pc,
+    batch.dispatch("light_cache", pipeline_.get(scene.cellCorners()), bufs, &pc, sizeof pc,
                    glm::uvec3(64, std::uint32_t(dirtyPages.size()), 1));
   }
   if (cards > 0) {
@@ -101,8 +102,8 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     bufs.insert(bufs.end(), objectBuffers.begin(), objectBuffers.end());
     bufs.push_back(&objects->cardNonFiniteCounter());
     const std::uint32_t groupsPerInstance = std::max(1u, (objects->maxCardTexels() + 63u) / 64u);
-    batch.dispatch("light_cache_cards", cardPipeline_, bufs, &pc, sizeof pc,
-                   glm::uvec3(64 * groupsPerInstance, cards, 1));
+    batch.dispatch("light_cache_cards", cardPipeline_.get(scene.cellCorners()), bufs, &pc,
+                   sizeof pc, glm::uvec3(64 * groupsPerInstance, cards, 1));
   }
 }
 

@@ -156,7 +156,8 @@ class LightCache {
 
   gpu::Context& context_;
   LightCacheSettings settings_;
-  gpu::ComputePipeline pipeline_, cardPipeline_;
+  // Specialized on the atlas the scene traces (GpuStackScene::cellCorners).
+  gpu::ComputePipelinePair pipeline_, cardPipeline_;
   gpu::Buffer radiance_;  // device-local light atlas
   gpu::Buffer pageList_;  // device-local, grown on demand; written through the staging ring
   gpu::Buffer lights_;    // device-local, kMaxLights GpuLight; written through the staging ring

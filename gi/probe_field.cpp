@@ -9,9 +9,12 @@ using gpu_shared::ProbePushConstants;
 constexpr std::uint32_t kBindings = 32;  // 22 probe + 8 object + 2 bounce (probe_bindings.glsl)
 constexpr glm::uvec3 kGroup(64, 1, 1);
 
-gpu::ComputePipeline pipeline(gpu::Context& ctx, gpu::ShaderId id) {
-  return gpu::ComputePipeline(ctx, id,
-                              gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup});
+gpu::PipelineDesc pipelineDesc() {
+  return gpu::PipelineDesc{kBindings, sizeof(ProbePushConstants), kGroup};
+}
+
+gpu::ComputePipelinePair tracingPipeline(gpu::Context& ctx, gpu::ShaderId id) {
+  return gpu::ComputePipelinePair(ctx, id, pipelineDesc());
 }
 
 gpu::Buffer deviceBuffer(gpu::Context& ctx, std::size_t bytes) {
@@ -30,13 +33,13 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       cascades_(cascades),
       sizes_(probeFieldSizes(settings, cascades)),
       builder_(settings),
-      classify_(pipeline(context, gpu::ShaderId::probe_classify)),
-      cacheCheck_(pipeline(context, gpu::ShaderId::probe_cache_check)),
-      select_(pipeline(context, gpu::ShaderId::probe_select)),
-      trace_(pipeline(context, gpu::ShaderId::probe_trace)),
-      bounce_(pipeline(context, gpu::ShaderId::probe_bounce)),
-      blend_(pipeline(context, gpu::ShaderId::probe_blend)),
-      sample_(pipeline(context, gpu::ShaderId::probe_sample)),
+      classify_(tracingPipeline(context, gpu::ShaderId::probe_classify)),
+      cacheCheck_(tracingPipeline(context, gpu::ShaderId::probe_cache_check)),
+      select_(tracingPipeline(context, gpu::ShaderId::probe_select)),
+      trace_(tracingPipeline(context, gpu::ShaderId::probe_trace)),
+      bounce_(tracingPipeline(context, gpu::ShaderId::probe_bounce)),
+      blend_(tracingPipeline(context, gpu::ShaderId::probe_blend)),
+      sample_(context, gpu::ShaderId::probe_sample, pipelineDesc()),
       frame_(deviceBuffer(context, sizeof(gpu_shared::ProbeFrame))),
       volumes_(deviceBuffer(context, cascades * sizeof(gpu_shared::ProbeVolume))),
       data_(deviceBuffer(context, sizes_.probes * 16)),
@@ -148,6 +151,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   growBounceCells(batch, scene);
+  // What is bound, for captures and tools: the pipeline variants, not this, decide what is read.
   if (scene.cellCorners()) lastFrame_.constants.options.x |= gpu_shared::kProbeOptionCellCorners;
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |=
@@ -165,6 +169,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                                 gpu::BufferKind::Readback);
 
   const std::vector<const gpu::Buffer*> b = bindings(scene, light);
+  const bool corners = scene.cellCorners();
   const std::uint32_t probes = std::uint32_t(sizes_.probes);
   const std::uint32_t capacity = settings_.listCapacity(cascades_);
   auto push = [](std::uint32_t mode, std::uint32_t threads) {
@@ -182,16 +187,19 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   const ProbePushConstants interior = push(0, capacity * gpu_shared::kProbeBlendThreadsPerProbe);
 
   batch.fill(statsBuffer_, 0u);
-  batch.dispatch("probe_classify", classify_, b, &classify, sizeof classify, spread(probes));
+  batch.dispatch("probe_classify", classify_.get(corners), b, &classify, sizeof classify,
+                 spread(probes));
   // Only frames whose windows scrolled or whose pages changed can invalidate cached rays.
   if (checksHitCache(lastFrame_.constants))
-    batch.dispatch("probe_cache_check", cacheCheck_, b, &cacheCheck, sizeof cacheCheck,
+    batch.dispatch("probe_cache_check", cacheCheck_.get(corners), b, &cacheCheck, sizeof cacheCheck,
                    spread(cacheEntries));
-  batch.dispatch("probe_select_count", select_, b, &count, sizeof count, spread(probes));
-  batch.dispatch("probe_select_emit", select_, b, &emit, sizeof emit, spread(probes));
-  batch.dispatch("probe_select_args", select_, b, &args, sizeof args, {1, 1, 1});
+  batch.dispatch("probe_select_count", select_.get(corners), b, &count, sizeof count,
+                 spread(probes));
+  batch.dispatch("probe_select_emit", select_.get(corners), b, &emit, sizeof emit, spread(probes));
+  batch.dispatch("probe_select_args", select_.get(corners), b, &args, sizeof args, {1, 1, 1});
   // Sized on the GPU by the list's length: sleeping and off probes launch no thread at all.
-  batch.dispatchIndirect("probe_trace", trace_, b, &trace, sizeof trace, dispatchArgs_, 0);
+  batch.dispatchIndirect("probe_trace", trace_.get(corners), b, &trace, sizeof trace, dispatchArgs_,
+                         0);
   if (lastFrame_.constants.bounce.y > 0) {
     // Sized like the trace: each listed ray adds at most one cell and itself, and then itself
     // once more where its cell disagrees.
@@ -199,13 +207,15 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     cells.dispatch.x = gpu_shared::kProbeBounceModeCells;
     waiting.dispatch.x = gpu_shared::kProbeBounceModeRays;
     own.dispatch.x = gpu_shared::kProbeBounceModeOwn;
-    batch.dispatchIndirect("probe_bounce_cells", bounce_, b, &cells, sizeof cells, dispatchArgs_,
-                           0);
-    batch.dispatchIndirect("probe_bounce_rays", bounce_, b, &waiting, sizeof waiting, dispatchArgs_,
-                           0);
-    batch.dispatchIndirect("probe_bounce_own", bounce_, b, &own, sizeof own, dispatchArgs_, 0);
+    batch.dispatchIndirect("probe_bounce_cells", bounce_.get(corners), b, &cells, sizeof cells,
+                           dispatchArgs_, 0);
+    batch.dispatchIndirect("probe_bounce_rays", bounce_.get(corners), b, &waiting, sizeof waiting,
+                           dispatchArgs_, 0);
+    batch.dispatchIndirect("probe_bounce_own", bounce_.get(corners), b, &own, sizeof own,
+                           dispatchArgs_, 0);
   }
-  batch.dispatchIndirect("probe_blend", blend_, b, &interior, sizeof interior, dispatchArgs_, 12);
+  batch.dispatchIndirect("probe_blend", blend_.get(corners), b, &interior, sizeof interior,
+                         dispatchArgs_, 12);
   batch.copy(statsBuffer_, statsReadback_[staging.currentSlot()], gpu_shared::kProbeStatCount * 4);
 }
 

@@ -111,7 +111,10 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  gpu::ComputePipeline classify_, cacheCheck_, select_, trace_, bounce_, blend_, sample_;
+  // The passes that bind the traced atlas, specialized on which one it is
+  // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
+  gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;
+  gpu::ComputePipeline sample_;
   // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,

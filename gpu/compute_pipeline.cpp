@@ -12,7 +12,8 @@
 
 namespace sdfstream::gpu {
 
-ComputePipeline::ComputePipeline(Context& ctx, ShaderId shader, const PipelineDesc& desc)
+ComputePipeline::ComputePipeline(Context& ctx, ShaderId shader, const PipelineDesc& desc,
+                                 std::optional<std::uint32_t> constant0)
     : ctx_(&ctx), shader_(shader), desc_(desc) {
   const std::span<const std::uint32_t> spirv = shaderSpirv(shader);
   const std::string who = std::string("pipeline ") + shaderName(shader) + ": ";
@@ -57,11 +58,18 @@ ComputePipeline::ComputePipeline(Context& ctx, ShaderId shader, const PipelineDe
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     info.stage.module = module;
     info.stage.pName = "main";
+    const VkSpecializationMapEntry entry{0, 0, sizeof(std::uint32_t)};
+    VkSpecializationInfo specialization{1, &entry, sizeof(std::uint32_t), nullptr};
+    if (constant0) {
+      specialization.pData = &*constant0;
+      info.stage.pSpecializationInfo = &specialization;
+    }
     info.layout = layout_;
     if (ctx.pipelineStatistics()) info.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
     SDFSTREAM_VK(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_));
     if (ctx.pipelineStatistics())
-      std::fprintf(stderr, "pipeline stats %s: %s\n", shaderName(shader),
+      std::fprintf(stderr, "pipeline stats %s%s: %s\n", shaderName(shader),
+                   constant0 ? (" (constant 0 = " + std::to_string(*constant0) + ")").c_str() : "",
                    pipelineStatisticsLine(device, pipeline_).c_str());
     // The pipeline keeps its own copy of the code; the module is only needed for creation.
     vkDestroyShaderModule(device, module, nullptr);
@@ -94,6 +102,18 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& other) noexcept {
     pipeline_ = std::exchange(other.pipeline_, VK_NULL_HANDLE);
   }
   return *this;
+}
+
+ComputePipelinePair::ComputePipelinePair(Context& ctx, ShaderId shader, const PipelineDesc& desc)
+    : ctx_(&ctx), shader_(shader), desc_(desc) {}
+
+const ComputePipeline& ComputePipelinePair::get(bool on) {
+  ComputePipeline& variant = variants_[on ? 1 : 0];
+  if (!variant) {
+    SDFSTREAM_GPU_CHECK(ctx_ != nullptr, "ComputePipelinePair::get on an empty pair");
+    variant = ComputePipeline(*ctx_, shader_, desc_, on ? 1u : 0u);
+  }
+  return variant;
 }
 
 void ComputePipeline::release() {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <vulkan/vulkan.h>
 #include <glm/vec3.hpp>
@@ -32,7 +33,12 @@ class ComputePipeline {
   ComputePipeline() = default;  // empty
   // Aborts (programmer error) when `desc` contradicts the shader's local size or device limits;
   // throws std::runtime_error when a Vulkan call fails.
-  ComputePipeline(Context& ctx, ShaderId shader, const PipelineDesc& desc);
+  // constant0, where given, is the shader's specialization constant 0 (`layout(constant_id =
+  // 0)`): a choice fixed when the pipeline is made, so the driver compiles only the code it picks
+  // (a uniform branch keeps both paths in the program, which can cost a pass even where never
+  // taken: registers, instruction cache).
+  ComputePipeline(Context& ctx, ShaderId shader, const PipelineDesc& desc,
+                  std::optional<std::uint32_t> constant0 = std::nullopt);
   ~ComputePipeline();
   ComputePipeline(ComputePipeline&& other) noexcept;
   ComputePipeline& operator=(ComputePipeline&& other) noexcept;
@@ -55,6 +61,25 @@ class ComputePipeline {
   VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+// The two pipelines of one shader whose specialization constant 0 is a bool, each made on its
+// first use: a run compiles only the variants it asks for. For passes whose choice is known only
+// once the data is (which atlas a scene holds, gi/gpu_stack_scene.h). Asking for a variant not
+// made yet creates it, a compile's hitch, once. Thread safety: as for the Context.
+class ComputePipelinePair {
+ public:
+  ComputePipelinePair() = default;  // empty
+  ComputePipelinePair(Context& ctx, ShaderId shader, const PipelineDesc& desc);
+
+  // The variant with constant 0 = `on`. Throws std::runtime_error when creation fails.
+  const ComputePipeline& get(bool on);
+
+ private:
+  Context* ctx_ = nullptr;
+  ShaderId shader_{};
+  PipelineDesc desc_{};
+  ComputePipeline variants_[2];
 };
 
 }  // namespace sdfstream::gpu

@@ -8,7 +8,7 @@
 // the light they had (relit within a per-frame budget, moved ones first: gi/card_light_slots.h).
 // Bindings: 0 relight list (instance indices), 1 lights, 2 card light (written; the same buffer
 // as object binding 15), 3 page tables, 4 distance atlas (or,
-// where the push constants say so, the corner atlas: the same distances by cell), 5 albedo
+// where specialization constant 0 says so, the corner atlas: the same distances by cell), 5 albedo
 // atlas, 6 emission atlas,
 // 7 cascade params (as light_cache.comp), 8-15 moving objects (object_bindings.glsl), 16 the count
 // of texels whose light came out NaN or infinite (packing would hide them as black or white).
@@ -36,7 +36,6 @@ layout(push_constant) uniform Push { LightCachePushConstants pc; };
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
-#define SDF_CELL_CORNERS_ON (pc.params.z != 0.0)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

@@ -12,7 +12,7 @@
 // value is lightCacheCellRadiance's, as before: only the order of work changed.
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
 // 2 light atlas (written), 3 page tables, 4 distance atlas (or,
-// where the push constants say so, the corner atlas: the same distances by cell), 5 albedo
+// where specialization constant 0 says so, the corner atlas: the same distances by cell), 5 albedo
 // atlas, 6 emission atlas,
 // 7 cascade params (as trace_stack.comp), 8-15 moving objects (object_bindings.glsl).
 #extension GL_GOOGLE_include_directive : require
@@ -38,7 +38,6 @@ layout(push_constant) uniform Push { LightCachePushConstants pc; };
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
-#define SDF_CELL_CORNERS_ON (pc.params.z != 0.0)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

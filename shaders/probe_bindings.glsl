@@ -22,14 +22,13 @@ layout(std430, binding = 9) buffer UpdateList { uint updateList[]; };
 layout(std430, binding = 10) buffer Stats { uint stats[]; };
 layout(std430, binding = 11) readonly buffer PageChanged { uint pageChanged[]; };
 layout(std430, binding = 12) readonly buffer PageTable { uint pageTable[]; };
-// The distance atlas or, with kProbeOptionCellCorners, the same distances by cell (sdf_layout.h
-// kBrickCornerWords: a trace's sample is one load). A pass that defines PROBE_DISTANCE_ATLAS_ONLY
-// is always given the distance atlas (ProbeField::bindings).
+// The distance atlas or, where specialization constant 0 says so (sdf_trace.glsl), the same
+// distances by cell (sdf_layout.h kBrickCornerWords: a trace's sample is one load). A pass that
+// defines PROBE_DISTANCE_ATLAS_ONLY is always given the distance atlas (ProbeField::bindings).
 layout(std430, binding = 13) readonly buffer DistanceAtlas { uint distanceAtlas[]; };
 #ifndef PROBE_DISTANCE_ATLAS_ONLY
 layout(std430, binding = 13) readonly buffer CornerAtlas { uvec4 cornerAtlas[]; };
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
-#define SDF_CELL_CORNERS_ON ((frame.options.x & kProbeOptionCellCorners) != 0u)
 #endif
 layout(std430, binding = 14) readonly buffer AlbedoAtlas { uint albedoAtlas[]; };
 layout(std430, binding = 15) readonly buffer EmissionAtlas { uint emissionAtlas[]; };

@@ -10,9 +10,10 @@
 //   SDF_DIST_WORD(i)  -> uint word i of the distance atlas (two fp16 per word)
 // and, optionally (GLSL passes), where the device holds the same distances by cell as well
 // (gi/gpu_stack_scene.h, sdf_layout.h kBrickCornerWords: one load a sample instead of 8):
-//   SDF_CELL_CORNERS(i) -> uvec4 cell i of the corner atlas
-//   SDF_CELL_CORNERS_ON -> a uniform bool: read the corner atlas (the pass's one binding holds
-//                          either atlas; both buffer blocks alias it)
+//   SDF_CELL_CORNERS(i) -> uvec4 cell i of the corner atlas (the pass's one atlas binding holds
+//                          either atlas; both buffer blocks alias it). Such a pass reads the
+//                          corners where its specialization constant 0, kSdfCellCorners, is
+//                          true (below; gpu::ComputePipelinePair makes each variant).
 //   SDF_ALBEDO(i)     -> uint RGBA8 of material voxel i of the atlas
 //   SDF_EMISSION(i)   -> uint RGB9E5 of material voxel i of the atlas
 // and, for the multi-cascade traversal sdfTraceStack only:
@@ -22,6 +23,13 @@
 // Empty pages carry a conservative distance bound (see sdf_layout.h), which is how the tracer
 // skips empty space (ARCHITECTURE.md: "empty, at least d away"; Godot SDFGI slides, cascades
 // store distance so rays can leap through empty space).
+
+#ifdef SDF_CELL_CORNERS
+// Which atlas the binding holds, fixed when the pipeline is made: the driver compiles one path.
+// A uniform flag kept both in every pass, and that alone cost the sampling pass 26% on the H200
+// with nothing traced (docs/GPU_BUDGET.md, "The corner atlas").
+layout(constant_id = 0) const bool kSdfCellCorners = false;
+#endif
 
 // `precise` forbids the shader compiler from fusing multiply-adds (NVIDIA does by default), so
 // the GPU rounds like the CPU reference (built with -ffp-contract=off) and threshold decisions
@@ -59,7 +67,7 @@ float sdfBrickDistance(uint slot, uint sx, uint sy, uint sz) {
 }
 
 // Trilinear interpolation of the 9³ samples of one brick at local position q in [0,8]³.
-// Where SDF_CELL_CORNERS_ON holds, a cell's 8 samples come from the corner atlas in one load
+// Where kSdfCellCorners holds, a cell's 8 samples come from the corner atlas in one load
 // instead of 8 (see the top of this file): the same fp16 values, so the same result bit for bit.
 float sdfBrickTrilinear(uint slot, vec3 q) {
   vec3 c = clamp(q, vec3(0.0f), vec3(7.999f));
@@ -74,7 +82,7 @@ float sdfBrickTrilinear(uint slot, vec3 q) {
   fz = clamp(fz, 0.0f, 1.0f);
   float d000, d100, d010, d110, d001, d101, d011, d111;
 #ifdef SDF_CELL_CORNERS
-  if (SDF_CELL_CORNERS_ON) {
+  if (kSdfCellCorners) {
     uvec4 corners = SDF_CELL_CORNERS(slot * kBrickMaterialCount + x0 + 8u * (y0 + 8u * z0));
     vec2 x00 = unpackHalf2x16(corners.x);
     vec2 x10 = unpackHalf2x16(corners.y);

@@ -1,5 +1,6 @@
 // y[i] = a * x[i] + y[i]: the gpu module's self-test kernel (tests/gpu). Exercises two storage
-// buffers, push constants and a partial last workgroup. `precise` forbids fusing into an FMA so
+// buffers, push constants, a partial last workgroup and specialization constant 0 (true:
+// y[i] = y[i] - a * x[i]; gpu::ComputePipelinePair). `precise` forbids fusing into an FMA so
 // the result matches the CPU reference bit for bit (the C++ side builds with -ffp-contract=off).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -14,10 +15,12 @@ layout(push_constant) uniform Push {
   uint count;
 } pc;
 
+layout(constant_id = 0) const bool kSubtract = false;
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= pc.count) return;
   precise float ax = pc.a * x[i];
-  precise float r = ax + y[i];
+  precise float r = kSubtract ? y[i] - ax : ax + y[i];
   y[i] = r;
 }

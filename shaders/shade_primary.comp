@@ -2,7 +2,7 @@
 // Primary-hit shading of the demo frames (demo/gi_shading.h; math in shade_primary.glsl, shared
 // with the CPU reference): one invocation per camera ray, spread over rows of 64 x 16384 threads.
 // Bindings: 0 rays, 1 shaded hits (written), 2 page tables, 3 distance atlas (or,
-// where the push constants say so, the corner atlas: the same distances by cell), 4 albedo atlas,
+// where specialization constant 0 says so, the corner atlas: the same distances by cell), 4 albedo atlas,
 // 5 emission atlas, 6 cascade params (as trace_stack.comp), 7 lights, 8 light-cache radiance,
 // 9-16 moving objects (object_bindings.glsl, gi/object_scene.h; zero instances when none),
 // 17 given primary surfaces (read with options.z == kShadePrimaryGiven, one per ray).
@@ -32,7 +32,6 @@ layout(push_constant) uniform Push { ShadePushConstants pc; };
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
-#define SDF_CELL_CORNERS_ON (pc.options.w != 0u)
 #define SDF_ALBEDO(i) albedoAtlas[i]
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]

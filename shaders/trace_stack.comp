@@ -2,8 +2,8 @@
 // Sphere-traces rays through the whole cascade stack (sdfTraceStack in sdf_trace.glsl, shared
 // with the CPU reference gi/cpu_tracer.cpp). Rays and hit distances are in cascade-0 voxels
 // relative to cascade 0's minimum corner. Bindings: 0 rays, 1 hits, 2 page tables (cascade-major,
-// 4096 entries each), 3 distance atlas or, with pc.cellCorners, the corner atlas (the distances
-// by cell), 4 albedo atlas, 5 emission atlas, 6 cascade params.
+// 4096 entries each), 3 distance atlas or, where specialization constant 0 says so, the corner
+// atlas (the distances by cell), 4 albedo atlas, 5 emission atlas, 6 cascade params.
 #extension GL_GOOGLE_include_directive : require
 
 #include "shaders/shared/sdf_layout.h"
@@ -27,7 +27,6 @@ layout(push_constant) uniform Push { TraceStackPushConstants pc; };
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #define SDF_CELL_CORNERS(i) cornerAtlas[i]
-#define SDF_CELL_CORNERS_ON (pc.cellCorners != 0u)
 #include "shaders/sdf_trace.glsl"
 
 void main() {

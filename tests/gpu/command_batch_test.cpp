@@ -43,6 +43,39 @@ TEST_F(CommandBatchTest, SaxpyMatchesCpuExactly) {
   EXPECT_EQ(mismatches, 0u);
 }
 
+// Specialization constant 0 picks the code: each variant of a pair computes its own result, and
+// asking again returns the pipeline made the first time.
+TEST_F(CommandBatchTest, PipelinePairVariantsFollowTheirConstant) {
+  constexpr std::uint32_t n = 1000;
+  const float a = 1.5f;
+  const std::vector<float> x = randomFloats(n, 3), y = randomFloats(n, 4);
+  gpu::ComputePipelinePair pair(ctx(), gpu::ShaderId::selftest_saxpy, saxpyDesc());
+  for (const bool subtract : {false, true, false}) {
+    Buffer bx(ctx(), n * sizeof(float), BufferKind::DeviceLocal);
+    Buffer by(ctx(), n * sizeof(float), BufferKind::DeviceLocal);
+    bx.upload(x.data(), n * sizeof(float));
+    by.upload(y.data(), n * sizeof(float));
+    const VkPipeline first = pair.get(subtract).handle();
+    gpu::CommandBatch batch = ctx().beginBatch();
+    SaxpyPush push{a, n};
+    batch.dispatch("saxpy", pair.get(subtract), {&bx, &by}, &push, sizeof push, {n, 1, 1});
+    batch.submitAndWait();
+    EXPECT_EQ(pair.get(subtract).handle(), first);
+    EXPECT_NE(pair.get(!subtract).handle(), first);
+    std::vector<float> result(n);
+    by.download(result.data(), n * sizeof(float));
+    std::size_t mismatches = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const float ax = a * x[i];
+      const float expected = subtract ? y[i] - ax : ax + y[i];
+      if (std::memcmp(&expected, &result[i], sizeof(float)) != 0 && mismatches++ < 5)
+        ADD_FAILURE() << "subtract " << subtract << ", element " << i << ": gpu " << result[i]
+                      << " cpu " << expected;
+    }
+    EXPECT_EQ(mismatches, 0u) << "subtract " << subtract;
+  }
+}
+
 TEST_F(CommandBatchTest, ChainedPassesSeeEachOthersWritesAndAreTimed) {
   constexpr std::uint32_t n = 4096;
   const std::vector<float> x = randomFloats(n, 3);

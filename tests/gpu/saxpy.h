@@ -16,11 +16,13 @@ struct SaxpyPush {      // matches `Push` in shaders/selftest_saxpy.comp (std430
 };
 static_assert(sizeof(SaxpyPush) == 8);
 
+inline gpu::PipelineDesc saxpyDesc() {
+  return {
+      .storageBufferCount = 2, .pushConstantBytes = sizeof(SaxpyPush), .workgroupSize = {64, 1, 1}};
+}
+
 inline gpu::ComputePipeline makeSaxpy(gpu::Context& ctx) {
-  return gpu::ComputePipeline(ctx, gpu::ShaderId::selftest_saxpy,
-                              {.storageBufferCount = 2,
-                               .pushConstantBytes = sizeof(SaxpyPush),
-                               .workgroupSize = {64, 1, 1}});
+  return gpu::ComputePipeline(ctx, gpu::ShaderId::selftest_saxpy, saxpyDesc());
 }
 
 // Fixed-seed inputs in [-100, 100].
