@@ -313,11 +313,13 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
   if (opt.gpuTable) {  // the stack of the default's cascades
     const auto it = stacks.find(scene->defaultCascades);
     const StreamedStack& st = it != stacks.end() ? it->second : stacks.rbegin()->second;
-    const PrimaryTraceTiming t =
-        primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height, 8);
-    rep.primaryRays = t.rays;
-    rep.primaryHits = t.hits;
-    rep.primaryTraceMs = t.milliseconds;
+    rep.primary = primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height, 8);
+    const PrimaryTraceTiming& p = rep.primary;
+    std::printf(
+        "  primary rays: %zu, %.3f ms, %.1f steps a ray (surface %.1f, band %.1f, clamped "
+        "%.1f, empty pages %.1f, missing %.1f; CPU steps %s)\n",
+        p.rays, p.milliseconds, p.meanSteps, p.stepsByKind[0], p.stepsByKind[1], p.stepsByKind[2],
+        p.stepsByKind[3], p.stepsByKind[4], p.cpuStepsEqual ? "equal" : "differ");
   }
 
   SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}, {}, {}};

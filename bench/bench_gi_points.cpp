@@ -5,6 +5,7 @@
 
 #include "demo/frame_image.h"
 #include "gi/camera.h"
+#include "gi/cpu_tracer.h"
 #include "gi/gpu_stack_tracer.h"
 #include "reference/metrics.h"
 
@@ -53,6 +54,38 @@ Camera streamViewCamera(const BenchScene& scene) {
   return cam;
 }
 
+// Steps per ray, and the steps of the longest ray in each group of 32 (see PrimaryTraceTiming).
+void countSteps(std::span<const gpu_shared::TraceHit> hits, int width, int height,
+                PrimaryTraceTiming& t) {
+  if (hits.empty()) return;
+  std::vector<std::uint32_t> steps(hits.size());
+  for (std::size_t i = 0; i < hits.size(); ++i) steps[i] = hits[i].steps;
+  double sum = 0.0, rows = 0.0, tiles = 0.0;
+  for (std::size_t i = 0; i < steps.size(); ++i) sum += steps[i];
+  for (std::size_t g = 0; g < steps.size(); g += 32) {
+    const std::size_t end = std::min(steps.size(), g + 32);
+    rows += double(*std::max_element(steps.begin() + std::ptrdiff_t(g),
+                                     steps.begin() + std::ptrdiff_t(end))) *
+            double(end - g);
+  }
+  for (int ty = 0; ty < height; ty += 4)
+    for (int tx = 0; tx < width; tx += 8) {
+      std::uint32_t most = 0;
+      int n = 0;
+      for (int y = ty; y < std::min(height, ty + 4); ++y)
+        for (int x = tx; x < std::min(width, tx + 8); ++x, ++n)
+          most = std::max(most, steps[std::size_t(y) * std::size_t(width) + std::size_t(x)]);
+      tiles += double(most) * n;
+    }
+  const double n = double(steps.size());
+  t.meanSteps = sum / n;
+  t.groupStepsRows = rows / n;
+  t.groupStepsTiles = tiles / n;
+  std::nth_element(steps.begin(), steps.begin() + std::ptrdiff_t(steps.size() * 99 / 100),
+                   steps.end());
+  t.p99Steps = steps[steps.size() * 99 / 100];
+}
+
 }  // namespace
 
 ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const CascadeStack& stack,
@@ -99,8 +132,16 @@ PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene
   std::vector<double> ms;
   for (int i = 0; i <= repeats; ++i) {
     const auto hits = tracer.trace(rays, TraceSettings{});
-    if (i == 0) {  // the warm-up also counts the hits
+    if (i == 0) {  // the warm-up also counts the hits and steps
       for (const auto& h : hits) t.hits += (h.flags & gpu_shared::kHitFlagHit) ? 1 : 0;
+      countSteps(hits, width, height, t);
+      TraceStepKinds kinds;
+      const auto cpu = traceStackCpu(img, rays, TraceSettings{}, &kinds);
+      t.cpuStepsEqual = cpu.size() == hits.size();
+      for (std::size_t r = 0; r < cpu.size() && t.cpuStepsEqual; ++r)
+        t.cpuStepsEqual = cpu[r].steps == hits[r].steps;
+      for (std::size_t k = 0; k < kinds.steps.size(); ++k)
+        t.stepsByKind[k] = double(kinds.steps[k]) / double(std::max<std::size_t>(1, rays.size()));
       continue;
     }
     ms.push_back(tracer.lastMilliseconds("trace_stack"));

@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "bench/bench_gi_report.h"
 #include "bench/bench_gi_scenes.h"
 #include "gpu/context.h"
 #include "reference/embree_scene.h"
@@ -48,12 +49,9 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
 // Primary-ray SDF traversal alone (trace_stack.comp, no shading): width × height rays from the
 // scene's stream camera (inside every cascade, unlike the reference's views, which may look in
 // from outside the stack) along its view direction, 60° vertical field of view: the GPU time of
-// the pass (median of `repeats` dispatches after one warm-up) and how many rays hit. The
-// real-GPU table reports it as rays per second, the traversal's own throughput.
-struct PrimaryTraceTiming {
-  std::size_t rays = 0, hits = 0;
-  double milliseconds = 0.0;  // 0: the device has no timestamps
-};
+// the pass (median of `repeats` dispatches after one warm-up) and how many rays hit, and
+// the steps they took. The real-GPU table reports it as rays per second, the traversal's own
+// throughput.
 PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,
                                       const CascadeStack& stack,
                                       std::span<const std::uint32_t> slots, int width, int height,

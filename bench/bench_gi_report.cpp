@@ -431,15 +431,25 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
       md << "| " << c.config << " | " << m.residentPages << " | " << m.budget << " | "
          << fmt("%.3f", m.lightMs) << " | " << fmt("%.3f", c.lightRelightWarmMs) << " | "
          << m.stalenessFrames << " |\n";
-  if (s.primaryRays > 0)
+  const PrimaryTraceTiming& p = s.primary;
+  if (p.rays > 0)
     md << "\nPrimary-ray SDF traversal alone (`trace_stack`, no shading), " << s.width << "×"
-       << s.height << " rays from the stream camera along its view direction (60° field of view): "
-       << s.primaryRays << " rays, " << s.primaryHits << " hits, " << fmt("%.3f", s.primaryTraceMs)
-       << " ms = "
-       << fmt("%.3f", s.primaryTraceMs > 0.0
-                          ? double(s.primaryRays) / (s.primaryTraceMs * 1e-3) * 1e-9
-                          : 0.0)
-       << " G rays/s (median of 8 dispatches).\n";
+       << s.height
+       << " rays from the stream camera along its view direction (60° field of view): " << p.rays
+       << " rays, " << p.hits << " hits, " << fmt("%.3f", p.milliseconds) << " ms = "
+       << fmt("%.3f", p.milliseconds > 0.0 ? double(p.rays) / (p.milliseconds * 1e-3) * 1e-9 : 0.0)
+       << " G rays/s (median of 8 dispatches). Steps per ray " << fmt("%.1f", p.meanSteps)
+       << " (99th percentile " << fmt("%.0f", p.p99Steps)
+       << "); the longest ray's steps in its group of 32, per ray: "
+       << fmt("%.1f", p.groupStepsRows) << " in rows as dispatched, "
+       << fmt("%.1f", p.groupStepsTiles) << " in 8×4 tiles. Steps per ray by kind (CPU reference, "
+       << (p.cpuStepsEqual ? "the same steps as the GPU's ray for ray"
+                           : "**steps differ from the GPU's**")
+       << "): " << fmt("%.1f", p.stepsByKind[0]) << " within a voxel of a surface, "
+       << fmt("%.1f", p.stepsByKind[1]) << " farther inside the band, "
+       << fmt("%.1f", p.stepsByKind[2]) << " clamped at the band's edge, "
+       << fmt("%.1f", p.stepsByKind[3]) << " leaps across empty pages, "
+       << fmt("%.1f", p.stepsByKind[4]) << " at missing pages.\n";
   writeText(outDir / ("gpu-table-" + s.name + ".md"), md.str());
   writeText(outDir / ("gpu-table-" + s.name + ".csv"), csv.str());
   std::fputs(md.str().c_str(), stdout);

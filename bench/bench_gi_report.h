@@ -3,6 +3,7 @@
 // the peer table) and one error-vs-time PNG per scene (demo/plot.h).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -11,6 +12,23 @@
 #include "bench/bench_gi_peers.h"
 
 namespace sdfstream::bench {
+
+// Primary-ray SDF traversal alone (primaryTraceTiming in bench/bench_gi_points.h). The steps
+// tell what the time is made of: a SIMD group of 32 lanes runs as long as its longest ray, so
+// the steps a lane waits for are the group's most, for the rays in dispatch order (32 pixels of
+// a row) and, for comparison, in 8 × 4 pixel tiles.
+struct PrimaryTraceTiming {
+  std::size_t rays = 0, hits = 0;
+  double milliseconds = 0.0;  // 0: the device has no timestamps
+  double meanSteps = 0.0;     // sphere-tracing steps per ray over every cascade
+  double p99Steps = 0.0;
+  double groupStepsRows = 0.0;   // mean over rays of their 32-ray group's most steps, rows
+  double groupStepsTiles = 0.0;  // the same with groups of 8 × 4 pixels
+  // The same rays through the CPU reference (gi/cpu_tracer.h): steps per ray by kind, and
+  // whether its steps equal the GPU's ray for ray (the same math).
+  std::array<double, 5> stepsByKind{};  // TraceStepKinds's order
+  bool cpuStepsEqual = false;
+};
 
 struct ConfigResult {
   std::string config;  // "default", "plain-ddgi", "rays-32", ...
@@ -74,8 +92,7 @@ struct SceneReport {
   std::string peerRaySet;
   std::string diagnosis;  // markdown (--diagnose): bench/bench_gi_diagnose.h
   // --gpu-table: primary-ray SDF traversal alone from the stream camera (primaryTraceTiming).
-  std::size_t primaryRays = 0, primaryHits = 0;
-  double primaryTraceMs = 0.0;
+  PrimaryTraceTiming primary;
   int rounds = 1;  // --gpu-table --rounds: each configuration's fastest of this many rounds
   double seconds = 0.0;
 };

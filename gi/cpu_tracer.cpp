@@ -1,5 +1,8 @@
 #include "gi/cpu_tracer.h"
 
+#include <array>
+#include <mutex>
+
 #include <tbb/parallel_for.h>
 
 #include <glm/gtc/packing.hpp>
@@ -18,7 +21,9 @@ struct CascadeTracer {
   const std::uint32_t* albedoAtlas;
   const std::uint32_t* emissionAtlas;
   const CascadeTraceParams* cascades = nullptr;  // stack traversal only
+  std::array<std::uint64_t, TraceStepKinds::kKinds> stepKinds{};  // SDF_COUNT_STEP's counts
 
+#define SDF_COUNT_STEP(kind) (++stepKinds[kind])
 #define SDF_PAGE(i) pageTable[i]
 #define SDF_DIST_WORD(i) distanceAtlas[i]
 #define SDF_ALBEDO(i) albedoAtlas[i]
@@ -30,6 +35,8 @@ struct CascadeTracer {
 #undef SDF_ALBEDO
 #undef SDF_EMISSION
 #undef SDF_CASCADE
+#undef SDF_COUNT_STEP
+  static_assert(kSdfStepKinds == TraceStepKinds::kKinds);
 
   // Mirrors main() of trace_rays.comp.
   TraceHit traceOne(const TraceRay& ray, const TracePushConstants& pc) {
@@ -80,7 +87,8 @@ struct CascadeTracer {
 
 std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
                                                 std::span<const gpu_shared::TraceRay> rays,
-                                                const TraceSettings& settings) {
+                                                const TraceSettings& settings,
+                                                TraceStepKinds* stepKinds) {
   cpu_trace_detail::CascadeTracer tracer{stack.pageTables.data(), stack.distanceAtlas->data(),
                                          stack.albedoAtlas->data(), stack.emissionAtlas->data(),
                                          stack.params.data()};
@@ -91,10 +99,15 @@ std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
   pc.cascadeCount = std::uint32_t(stack.params.size());
   pc.firstCascade = settings.firstCascade;
   std::vector<gpu_shared::TraceHit> hits(rays.size());
+  std::mutex countsMutex;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 256), [&](auto range) {
     auto local = tracer;
     for (std::size_t i = range.begin(); i < range.end(); ++i)
       hits[i] = local.traceStackOne(rays[i], pc, settings.visibilityRule, settings.descend);
+    if (!stepKinds) return;
+    std::lock_guard lock(countsMutex);
+    for (std::size_t k = 0; k < local.stepKinds.size(); ++k)
+      stepKinds->steps[k] += local.stepKinds[k];
   });
   return hits;
 }

@@ -2,6 +2,9 @@
 // shaders/sdf_trace.glsl), used by tests to check the GPU texel by texel and as a fallback.
 #pragma once
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -29,10 +32,20 @@ std::vector<gpu_shared::TraceHit> traceRaysCpu(const CascadeImage& cascade,
                                                std::span<const gpu_shared::TraceRay> rays,
                                                const TraceSettings& settings);
 
+// Where a trace's steps went, by kind (sdf_trace.glsl, kSdfStep*): samples of a brick within a
+// voxel of a surface, farther inside the band, clamped at its edge; leaps across empty pages;
+// stops at missing pages. The kinds sum to the rays' TraceHit::steps.
+struct TraceStepKinds {
+  static constexpr std::size_t kKinds = 5;
+  std::array<std::uint64_t, kKinds> steps{};
+};
+
 // Traces rays given in cascade-0 voxels through the whole stack (sdfTraceStack). Hit t is in
-// cascade-0 voxels; the hit's cascade is in flags >> kHitCascadeShift.
+// cascade-0 voxels; the hit's cascade is in flags >> kHitCascadeShift. stepKinds, where given,
+// gets each step added to its kind.
 std::vector<gpu_shared::TraceHit> traceStackCpu(const CascadeStackImage& stack,
                                                 std::span<const gpu_shared::TraceRay> rays,
-                                                const TraceSettings& settings);
+                                                const TraceSettings& settings,
+                                                TraceStepKinds* stepKinds = nullptr);
 
 }  // namespace sdfstream

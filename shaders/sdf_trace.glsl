@@ -40,6 +40,19 @@ layout(constant_id = 0) const bool kSdfCellCorners = false;
 #define SDF_PRECISE precise
 #endif
 
+// What each step of sdfTraceWith was (diagnostics: where a trace's steps go). The CPU reference
+// counts them by defining SDF_COUNT_STEP(kind) before including this file (gi/cpu_tracer.h,
+// TraceStepKinds); the GPU passes compile the counting away.
+#ifndef SDF_COUNT_STEP
+#define SDF_COUNT_STEP(kind)
+#endif
+SDF_CONST uint kSdfStepNearSurface = 0u;  // a brick's sample within a voxel of a surface
+SDF_CONST uint kSdfStepBand = 1u;         // a brick's sample 1 voxel or more inside the band
+SDF_CONST uint kSdfStepClamped = 2u;      // a brick's sample clamped at the band's edge
+SDF_CONST uint kSdfStepEmptyPage = 3u;    // a leap across a page without a brick
+SDF_CONST uint kSdfStepMissingPage = 4u;  // a page not streamed in yet: the trace stops
+SDF_CONST uint kSdfStepKinds = 5u;
+
 struct SdfSample {
   float distance;  // voxels; for a non-resident page, its conservative bound
   bool resident;   // true when the page holds a brick
@@ -340,6 +353,9 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
     ivec3 page = sdfPageAlong(p, dir);
     SdfSample s = sdfSamplePage(p, page, toroidalOffset);
     if (s.resident) {
+      SDF_COUNT_STEP(s.distance < 1.0f                 ? kSdfStepNearSurface
+                     : s.distance < kNarrowBand - 0.05f ? kSdfStepBand
+                                                        : kSdfStepClamped);
       if (relaxedStep && 0.9f * (stepFromDistance + s.distance) < stepLength) {
         // The spheres leave a gap a surface could hide in: back to the plain step.
         t = t - stepLength + max(0.9f * stepFromDistance, 0.05f);
@@ -385,12 +401,14 @@ SdfTraceResult sdfTraceWith(vec3 origin, vec3 dir, float tMin, float tMax, uint 
       stepLength = relaxedStep ? relaxed : plain;
       t += stepLength;
     } else if (s.missing) {
+      SDF_COUNT_STEP(kSdfStepMissingPage);
       r.missingData = true;
       r.t = t;
       r.position = p;
       return r;
     } else {
       // No surface inside this page: leap to its far side, or farther when the bound allows.
+      SDF_COUNT_STEP(kSdfStepEmptyPage);
       vec3 lo = vec3(page) * 8.0f;
       float exitT = sdfBoxExit(origin, invDir, lo, lo + vec3(8.0f));
       t = max(exitT + 1e-3f, t + s.distance);

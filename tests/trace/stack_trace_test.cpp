@@ -254,6 +254,31 @@ TEST(StackTraceCpu, VisibilityRuleBlocksWhatTheExactTraceBlocksInFewerSteps) {
   EXPECT_LT(looseSteps, 0.9 * exactSteps);
 }
 
+// The CPU reference's count of steps by kind covers every step the rays took, and the bunny's
+// camera rays take steps of each kind but the missing page's (every page is streamed in).
+TEST(StackTraceCpu, StepKindsAddUpToTheSteps) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  const auto rays = raysFromCamera(b, img, 2000);
+  TraceStepKinds kinds;
+  const auto hits = traceStackCpu(img, rays, TraceSettings{}, &kinds);
+  std::uint64_t steps = 0, counted = 0;
+  for (const auto& h : hits) steps += h.steps;
+  for (std::uint64_t k : kinds.steps) counted += k;
+  std::printf(
+      "[figures] steps by kind: near surface %llu, band %llu, clamped %llu, empty page "
+      "%llu, missing page %llu of %llu\n",
+      (unsigned long long)kinds.steps[0], (unsigned long long)kinds.steps[1],
+      (unsigned long long)kinds.steps[2], (unsigned long long)kinds.steps[3],
+      (unsigned long long)kinds.steps[4], (unsigned long long)steps);
+  EXPECT_EQ(counted, steps);
+  EXPECT_GT(kinds.steps[0], 0u);
+  EXPECT_GT(kinds.steps[1], 0u);
+  EXPECT_GT(kinds.steps[2], 0u);
+  EXPECT_GT(kinds.steps[3], 0u);
+  EXPECT_EQ(kinds.steps[4], 0u);
+}
+
 // The same pack seen 100 km away: tile and brick coordinates shifted by a whole number of tiles.
 class ShiftedStore : public TileStore {
  public:
