@@ -126,7 +126,11 @@ PrimaryShadePass::PrimaryShadePass(gpu::Context& context)
               gpu::BufferKind::Upload),
       noRadiance_(context, 4, gpu::BufferKind::DeviceLocal),
       noSurfaces_(context, sizeof(gpu_shared::PrimarySurface), gpu::BufferKind::DeviceLocal),
-      noObjects_(context) {}
+      noObjects_(context) {
+  // The corner atlas's variant, compiled here rather than in the first frame: the scenes keep
+  // their corners by default (GiSettings::cellCorners) wherever they fit.
+  pipeline_.get(true);
+}
 
 std::vector<gpu_shared::ShadedHit> PrimaryShadePass::run(
     const GpuStackScene& scene, const gpu::Buffer* lightRadiance,

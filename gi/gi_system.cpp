@@ -46,7 +46,11 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       probeListCapacity_(settings.probes.listCapacity(cascades)),
       switchVigilantUpdates_(settings.probes.switchVigilantUpdates()),
       vigilantMeanUpdates_(settings.probes.vigilantMeanUpdates),
-      lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {}
+      lightDrift_{settings.probes.lightDriftDegrees, settings.probes.lightDriftIntensity} {
+  // Compiled here, not in the first frame: the corners are kept wherever they are wanted and fit.
+  light_.preparePipelines(settings.cellCorners);
+  probes_.preparePipelines(settings.cellCorners);
+}
 
 // A switch's vigilance in updates of each probe: as many as the catch-up gives a probe. Where
 // more probes live than one update's list holds (Sponza's 4 cascades: ~2x), each update takes

@@ -11,6 +11,7 @@ GpuStackTracer::GpuStackTracer(gpu::Context& context, const CascadeStack& stack,
           gpu::PipelineDesc{7, sizeof(gpu_shared::TraceStackPushConstants), glm::uvec3(64, 1, 1)}),
       scene_(context, cellCorners) {
   scene_.sync(stack, {});
+  pipeline_.get(scene_.cellCorners());  // compiled here, not in the first trace
 }
 
 std::vector<gpu_shared::TraceHit> GpuStackTracer::trace(std::span<const gpu_shared::TraceRay> rays,

@@ -132,6 +132,13 @@ class LightCache {
   void update(const GpuStackScene& scene, std::span<const gpu_shared::GpuLight> lights,
               const gpu_shared::GpuSky& sky, std::span<const std::uint32_t> dirtyPages,
               double voxelSize0, const ObjectScene* objects = nullptr);
+  // Makes the passes' pipelines for the atlas the scene will most likely hold
+  // (GpuStackScene::cellCorners) now rather than in the first frame that records them. Optional:
+  // a frame makes whatever variant it needs and has not got yet.
+  void preparePipelines(bool cellCorners) {
+    pipeline_.get(cellCorners);
+    cardPipeline_.get(cellCorners);
+  }
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
   // passes are named "light_cache" and "light_cache_cards" in the batch's timings.
   // lastTimings() is not updated.

@@ -145,6 +145,12 @@ void ProbeField::update(const GpuStackScene& scene, const CascadeStackImage& ima
   stats_ = readStats(0);
 }
 
+void ProbeField::preparePipelines(bool cellCorners) {
+  for (gpu::ComputePipelinePair* p :
+       {&classify_, &cacheCheck_, &select_, &trace_, &bounce_, &blend_})
+    p->get(cellCorners);
+}
+
 void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         const GpuStackScene& scene, const CascadeStackImage& image,
                         const gpu::Buffer& light, const ProbeFrameInputs& inputs,

@@ -35,6 +35,11 @@ class ProbeField {
   // Allocates every buffer (probeFieldSizes(settings, cascades).bytes() of device memory).
   ProbeField(gpu::Context& context, const ProbeFieldSettings& settings, std::uint32_t cascades);
 
+  // Makes the passes' pipelines for the atlas the scene will most likely hold
+  // (GpuStackScene::cellCorners) now rather than in the first frame that records them. Optional:
+  // a frame makes whatever variant it needs and has not got yet.
+  void preparePipelines(bool cellCorners);
+
   // One frame: `scene` holds the stack the image describes (already synced), `lightRadiance`
   // the light cache (gi/light_cache.h). Blocking; reads back the frame statistics.
   void update(const GpuStackScene& scene, const CascadeStackImage& image,
