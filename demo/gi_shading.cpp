@@ -180,7 +180,7 @@ void PrimaryShadePass::record(gpu::CommandBatch& batch, const GpuStackScene& sce
       shadePushConstants(settings, count, lights.size(), scene.cascadeCount(), sky, voxelSize0);
   if (objects && objects->active()) shade_detail::setObjectBounds(pc, objects);
   if (surfaceBytes || deviceSurfaces) pc.options.z = gpu_shared::kShadePrimaryGiven;
-  // What is bound, for captures and tools: the pipeline variant, not this, decides what is read.
+  // Records what is bound, as the layout documents; no shader reads it (the variant decides).
   pc.options.w = scene.cellCorners() ? 1u : 0u;
   std::vector<const gpu::Buffer*> bindings = {&rays,
                                               &shaded,

@@ -129,9 +129,8 @@ class GiSystem {
   // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),
   // in binding order from SDFSTREAM_PROBE_BINDING: probe frame constants, volumes, probe data,
   // irradiance, depth, then the stack's page tables, distance atlas and cascade params (SDF
-  // visibility). Valid for commands recorded after record()/update() of a
-  // frame and until the next one (buffers may be replaced when the streamed atlas grows): query it
-  // every frame.
+  // visibility). Valid for commands recorded after record()/update() of a frame and until the
+  // next one (buffers may be replaced when the streamed atlas grows): query it every frame.
   static constexpr std::size_t kSampleBindingCount = 8;
   std::array<VkDescriptorBufferInfo, kSampleBindingCount> sampleBindings() const;
   // The same buffers, for a pass of this library's own (CommandBatch::dispatch).

@@ -77,7 +77,7 @@ void LightCache::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
     gpu_shared::LightCachePushConstants pc = lightCachePushConstants(
         settings_, std::uint32_t(dirtyPages.size()), std::uint32_t(lights.size()),
         scene.cascadeCount(), sky, voxelSize0);
-    // What is bound, for captures and tools: the pipeline variant, not this, decides what is read.
+    // Records what is bound, as the layout documents; no shader reads it (the variant decides).
     pc.params.z = scene.cellCorners() ? 1.0f : 0.0f;
     // One workgroup of 64 per listed page (y; at most 8 × 4096 < 65535), which walks its 512
     // cells.

@@ -157,7 +157,7 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                         std::uint64_t frame) {
   lastFrame_ = builder_.build(image, inputs, frame);
   growBounceCells(batch, scene);
-  // What is bound, for captures and tools: the pipeline variants, not this, decide what is read.
+  // Records what is bound, as the layout documents; no shader reads it (the variants decide).
   if (scene.cellCorners()) lastFrame_.constants.options.x |= gpu_shared::kProbeOptionCellCorners;
   if (objects_ && objects_->active()) {
     lastFrame_.constants.options.x |=
