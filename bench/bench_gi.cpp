@@ -154,6 +154,11 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
                      [&](std::uint32_t a, std::uint32_t b) { return tileKey(a) < tileKey(b); });
   sc.sampleQueries.clear();
   for (std::uint32_t i : sc.sampleOrder) sc.sampleQueries.push_back(sc.queries[i]);
+  const std::size_t pixels = std::size_t(width) * std::size_t(std::max(points.height, 1));
+  sc.imageQueries.assign(points.views() * pixels, gpu_shared::ProbeQuery{});
+  for (std::size_t k = 0; k < points.views(); ++k)
+    for (std::size_t i = points.start[k]; i < points.start[k + 1]; ++i)
+      sc.imageQueries[k * pixels + std::size_t(points.pixel[i])] = sc.queries[i];
   const std::size_t stride = std::max<std::size_t>(1, points.position.size() / 1024);
   for (std::size_t i = 0; i < points.position.size(); i += stride) {
     sc.testQueries.push_back(sc.queries[i]);

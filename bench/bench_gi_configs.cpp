@@ -62,6 +62,9 @@ std::vector<GiConfig> bounceCellConfigs(int cascades, bool converge) {
   return out;
 }
 
+constexpr const char* kHalfResolutionChange =
+    "sampled at half resolution, depth/normal-aware upsample";
+
 }  // namespace
 
 std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
@@ -77,6 +80,8 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
   const ProbeFieldSettings def;
   add("default", "ours", "", def, cascades, !quick);
   add("plain-ddgi", "plain-ddgi", "", plainDdgi(), cascades, !quick);
+  add("half-res", "ours", kHalfResolutionChange, def, cascades, false);
+  out.back().halfResolution = true;
   const std::vector<std::uint32_t> rays =
       quick ? std::vector<std::uint32_t>{32} : std::vector<std::uint32_t>{32, 64, 256};
   for (std::uint32_t r : rays) {
@@ -198,7 +203,9 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
        scene.defaultCascades, false, "default"},
       {"sdf-per-query", "ours", "each query traces its own SDF tests (no sharing)", perQuery,
        scene.defaultCascades, false, "default"},
-      {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""}};
+      {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""},
+      {"half-res", "ours", kHalfResolutionChange, def, scene.defaultCascades, false, "default",
+       true}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   for (GiConfig& c : bounceCellConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   return out;

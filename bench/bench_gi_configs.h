@@ -16,6 +16,7 @@ struct GiConfig {
   int cascades = 1;
   bool converge = true;  // measure frames to converge after a light switch
   std::string base;      // the configuration `change` is relative to ("" = none)
+  bool halfResolution = false;  // sampled at half resolution and upsampled
 };
 
 // "chebyshev", "sdf", "chebyshev+sdf".

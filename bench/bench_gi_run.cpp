@@ -195,10 +195,27 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
     raysTraced.push_back(s.probes.raysTraced);
     raysCached.push_back(s.probes.raysCached);
     steps.push_back(double(s.probes.steps));
-    const std::vector<glm::vec3> tiled = gi_.irradiance(sc_.sampleQueries);
-    sample.push_back(gi_.lastSampleMilliseconds());
-    e.resize(tiled.size());
-    for (std::size_t k = 0; k < tiled.size(); ++k) e[sc_.sampleOrder[k]] = tiled[k];
+    if (cfg_.halfResolution) {
+      e.resize(sc_.queries.size());
+      const ViewPoints& p = sc_.points;
+      const std::uint32_t width = std::uint32_t(std::max(p.width, 1));
+      const std::uint32_t height = std::uint32_t(std::max(p.height, 1));
+      const std::size_t pixels = std::size_t(width) * height;
+      double ms = 0.0;
+      for (std::size_t k = 0; k < p.views(); ++k) {
+        const std::vector<glm::vec3> image = gi_.irradianceHalfResolution(
+            std::span(sc_.imageQueries).subspan(k * pixels, pixels), width, height);
+        ms += gi_.lastSampleMilliseconds();
+        for (std::size_t i = p.start[k]; i < p.start[k + 1]; ++i)
+          e[i] = image[std::size_t(p.pixel[i])];
+      }
+      sample.push_back(ms);
+    } else {
+      const std::vector<glm::vec3> tiled = gi_.irradiance(sc_.sampleQueries);
+      sample.push_back(gi_.lastSampleMilliseconds());
+      e.resize(tiled.size());
+      for (std::size_t k = 0; k < tiled.size(); ++k) e[sc_.sampleOrder[k]] = tiled[k];
+    }
     if (opt.verbose && !sc_.points.reference.empty())
       std::printf("      frame %llu: relMSE %.4f\n", (unsigned long long)frame_ - 1,
                   reference::relMSE(e, sc_.points.reference));

@@ -29,6 +29,9 @@ struct SceneContext {
   // would give them. sampleQueries[k] is point sampleOrder[k].
   std::vector<gpu_shared::ProbeQuery> sampleQueries;
   std::vector<std::uint32_t> sampleOrder;
+  // The same queries as images (views × width × height, row by row; pixels without a point
+  // have a zero normal), for sampling at half resolution (GiConfig::halfResolution).
+  std::vector<gpu_shared::ProbeQuery> imageQueries;
 };
 
 // Where runConfig reports what it measures beyond its result row (null: not measured).

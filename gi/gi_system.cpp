@@ -285,6 +285,11 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
   return probes_.sample(scene_, light_.radianceBuffer(), queries);
 }
 
+std::vector<glm::vec3> GiSystem::irradianceHalfResolution(
+    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height) {
+  return probes_.sampleHalfResolution(scene_, light_.radianceBuffer(), image, width, height);
+}
+
 std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {
   const auto probe = probes_.sampleBuffers();
   return {probe[0],           probe[1],        probe[2], probe[3], probe[4], &scene_.pageTables(),

@@ -125,6 +125,10 @@ class GiSystem {
   // Blocking (a CPU round trip): engines sample in their own shaders instead. Queries in pixel
   // tiles run fastest (ProbeField::sample).
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
+  // The same for an image of queries (width × height, row by row; zero normal: no surface),
+  // sampled at half resolution and upsampled (ProbeField::sampleHalfResolution).
+  std::vector<glm::vec3> irradianceHalfResolution(std::span<const gpu_shared::ProbeQuery> image,
+                                                  std::uint32_t width, std::uint32_t height);
   double lastSampleMilliseconds() const;
   // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),
   // in binding order from SDFSTREAM_PROBE_BINDING: probe frame constants, volumes, probe data,

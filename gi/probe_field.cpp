@@ -1,7 +1,11 @@
 #include "gi/probe_field.h"
 
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <utility>
+
+#include "gi/probe_upsample.h"
 
 namespace sdfstream::probe {
 namespace {
@@ -40,6 +44,8 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       bounce_(tracingPipeline(context, gpu::ShaderId::probe_bounce)),
       blend_(tracingPipeline(context, gpu::ShaderId::probe_blend)),
       sample_(context, gpu::ShaderId::probe_sample, pipelineDesc()),
+      upsample_(context, gpu::ShaderId::probe_upsample,
+                gpu::PipelineDesc{3, sizeof(ProbePushConstants), kGroup}),
       frame_(deviceBuffer(context, sizeof(gpu_shared::ProbeFrame))),
       volumes_(deviceBuffer(context, cascades * sizeof(gpu_shared::ProbeVolume))),
       data_(deviceBuffer(context, sizes_.probes * 16)),
@@ -79,7 +85,8 @@ void ProbeField::reset() {
 }
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
-                                                     const gpu::Buffer& light, bool distanceAtlas) {
+                                                     const gpu::Buffer& light, bool distanceAtlas,
+                                                     const gpu::Buffer* results) {
   std::vector<const gpu::Buffer*> b = {&frame_,
                                        &volumes_,
                                        &data_,
@@ -99,7 +106,7 @@ std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
                                        &scene.params(),
                                        &light,
                                        &queries_.device(),
-                                       &results_.device(),
+                                       results ? results : &results_.device(),
                                        &dispatchArgs_,
                                        &rayDirs_};
   for (const gpu::Buffer* o :
@@ -250,6 +257,43 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   batch.submitAndWait();
   timings_ = batch.timings();
   std::vector<glm::vec3> out(queries.size());
+  const auto* r = static_cast<const glm::vec4*>(results_.host());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
+  return out;
+}
+
+std::vector<glm::vec3> ProbeField::sampleHalfResolution(
+    const GpuStackScene& scene, const gpu::Buffer& light,
+    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height) {
+  if (std::size_t(width) * height != image.size())
+    throw std::invalid_argument(
+        "ProbeField::sampleHalfResolution: " + std::to_string(image.size()) + " queries for a " +
+        std::to_string(width) + "x" + std::to_string(height) + " image");
+  if (image.empty()) return {};
+  const std::uint32_t lowWidth = (width + 1) / 2, lowHeight = (height + 1) / 2;
+  const std::size_t qBytes = image.size() * sizeof(gpu_shared::ProbeQuery);
+  const std::size_t rBytes = image.size() * sizeof(glm::vec4);
+  const std::size_t lowBytes = std::size_t(lowWidth) * lowHeight * sizeof(glm::vec4);
+  queries_.reserve(qBytes);
+  results_.reserve(rBytes);
+  if (!halfResults_ || halfResults_.size() < lowBytes)
+    halfResults_ = deviceBuffer(context_, lowBytes);
+  std::memcpy(queries_.host(), image.data(), qBytes);
+  ProbePushConstants pc{};
+  pc.dispatch = glm::uvec4(0u, halfResolutionInvocations(lowWidth, lowHeight), width, height);
+  ProbePushConstants up{};
+  up.dispatch = glm::uvec4(0u, std::uint32_t(image.size()), width, height);
+  gpu::CommandBatch batch = context_.beginBatch();
+  queries_.recordCopy(batch, qBytes);
+  batch.dispatch("probe_sample", sample_, bindings(scene, light, true, &halfResults_), &pc,
+                 sizeof pc, spread(pc.dispatch.y));
+  batch.dispatch("probe_upsample", upsample_,
+                 {&queries_.device(), &halfResults_, &results_.device()}, &up, sizeof up,
+                 spread(up.dispatch.y));
+  results_.recordCopy(batch, rBytes);
+  batch.submitAndWait();
+  timings_ = batch.timings();
+  std::vector<glm::vec3> out(image.size());
   const auto* r = static_cast<const glm::vec4*>(results_.host());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
   return out;

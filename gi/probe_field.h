@@ -64,13 +64,23 @@ class ProbeField {
   // the object scene must be updated for the same stack before each update() and outlive it.
   void setObjects(const ObjectScene* objects) { objects_ = objects; }
 
-  // irradiance(x, n, view) of the current probes at each query; blocking. Fastest with the
+  // irradiance(x, n, view) of the current probes at each query (0 where its normal is zero: a
+  // pixel without a surface); blocking. Fastest with the
   // queries of a screen in 8×8 pixel tiles, Z-order inside (as bench gi gives them: 8
   // consecutive queries are a 4×2 block): neighbours then share probe cages and SDF tests
   // (ProbeFieldSettings::shareSdfTests) and a warp's loads coincide; Sponza at 1080p on an H100,
   // 1.88 ms against 2.68 in pixel rows (docs/GPU_BUDGET.md).
   std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
                                 std::span<const gpu_shared::ProbeQuery> queries);
+  // The same at half resolution, for an image of queries (width × height, row by row; a pixel
+  // without a surface has a zero normal and gets 0): one query per 2×2 block is sampled, the
+  // others are filled in by a depth/normal-aware upsample (shaders/probe_upsample.glsl), so
+  // sampling costs about a quarter, at an error bench gi measures (its `half-res` config).
+  // Blocking; lastTimings() then holds probe_sample and probe_upsample.
+  std::vector<glm::vec3> sampleHalfResolution(const GpuStackScene& scene,
+                                              const gpu::Buffer& lightRadiance,
+                                              std::span<const gpu_shared::ProbeQuery> image,
+                                              std::uint32_t width, std::uint32_t height);
 
   // The probe buffers an engine's shader samples (sdfstream/probe_sample.glsl, bindings 0-4):
   // frame constants, volumes, probe data, irradiance, depth.
@@ -104,9 +114,11 @@ class ProbeField {
 
  private:
   // distanceAtlas: bind the stack's distance atlas, not the one it traces (probe_sample.comp).
+  // results: what binding 19 (the sampling pass's results) binds instead of results_.
   std::vector<const gpu::Buffer*> bindings(const GpuStackScene& scene,
                                            const gpu::Buffer& lightRadiance,
-                                           bool distanceAtlas = false);
+                                           bool distanceAtlas = false,
+                                           const gpu::Buffer* results = nullptr);
   // Sizes the bounce cells to the scene's atlas (new cells empty; recorded into `batch`).
   void growBounceCells(gpu::CommandBatch& batch, const GpuStackScene& scene);
 
@@ -119,13 +131,14 @@ class ProbeField {
   // The passes that bind the traced atlas, specialized on which one it is
   // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
   gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;
-  gpu::ComputePipeline sample_;
+  gpu::ComputePipeline sample_, upsample_;
   // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;
   gpu::StagedBuffer queries_, results_;  // sample()'s, device-local (gpu/staged_buffer.h)
+  gpu::Buffer halfResults_;              // sampleHalfResolution()'s low-resolution samples
   // Group counts of the trace / bounce passes (x, y, z at 0) and the blend (at 3), written by
   // probe_select's args mode.
   gpu::Buffer dispatchArgs_;

@@ -10,6 +10,7 @@
 #include <glm/gtc/packing.hpp>
 #include <glm/integer.hpp>
 
+#include "gi/probe_upsample.h"
 #include "shaders/shared/color_codec.h"
 #include "shaders/shared/sdf_layout.h"
 
@@ -238,6 +239,13 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   stats_ = decodeStats(rawStats_);
 }
 
+namespace {
+// probe_sample.comp: a query whose normal is zero has no surface.
+bool hasSurface(const gpu_shared::ProbeQuery& q) {
+  return glm::dot(glm::vec3(q.normal), glm::vec3(q.normal)) > 0.0f;
+}
+}  // namespace
+
 std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
                                              std::span<const gpu_shared::ProbeQuery> queries,
                                              SampleTraces traces, SampleCounts* counts) const {
@@ -256,9 +264,12 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64), [&](auto r) {
       auto local = base;
       for (std::size_t i = r.begin(); i < r.end(); ++i)
-        out[i] = local.probeFieldIrradiance(
-            frame_.constants, glm::vec3(queries[i].position), glm::vec3(queries[i].normal),
-            glm::vec3(queries[i].view), true, int(queries[i].position.w) - 1);
+        out[i] = !hasSurface(queries[i])
+                     ? glm::vec3(0.0f)
+                     : local.probeFieldIrradiance(frame_.constants, glm::vec3(queries[i].position),
+                                                  glm::vec3(queries[i].normal),
+                                                  glm::vec3(queries[i].view), true,
+                                                  int(queries[i].position.w) - 1);
     });
     return out;
   }
@@ -276,8 +287,9 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
       std::array<field_detail::FieldPasses::ProbeFieldPlan, kLanes> plans{};
       for (std::size_t l = 0; l < lanes; ++l) {
         const gpu_shared::ProbeQuery& q = queries[first + l];
-        plans[l] = local.probeFieldPlan(f, glm::vec3(q.position), glm::vec3(q.normal),
-                                        glm::vec3(q.view), int(q.position.w) - 1);
+        if (hasSurface(q))  // else no cage: the lane samples nothing and shares nothing
+          plans[l] = local.probeFieldPlan(f, glm::vec3(q.position), glm::vec3(q.normal),
+                                          glm::vec3(q.view), int(q.position.w) - 1);
       }
       std::array<std::array<std::uint32_t, 2>, kLanes> visible{};
       for (std::uint32_t i = 0; i < 2; ++i) {
@@ -306,6 +318,7 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
       }
       for (std::size_t l = 0; l < lanes; ++l) {
         const gpu_shared::ProbeQuery& q = queries[first + l];
+        if (!hasSurface(q)) continue;
         out[first + l] =
             local.probeFieldFinish(f, plans[l], glm::vec3(q.position), glm::vec3(q.normal),
                                    glm::vec3(q.view), visible[l][0], visible[l][1]);
@@ -314,6 +327,14 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
   });
   if (counts) *counts = {cages.load(), sharedCages.load(), traced.load(), own.load()};
   return out;
+}
+
+std::vector<glm::vec3> ProbeFieldCpu::sampleHalfResolution(
+    const CascadeStackImage& stack, std::span<const gpu_shared::ProbeQuery> image,
+    std::uint32_t width, std::uint32_t height) const {
+  const HalfResolutionPlan plan = planHalfResolution(image, width, height);
+  const std::vector<glm::vec3> sampled = sample(stack, plan.queries);
+  return upsampleHalfResolution(image, halfResolutionSamples(plan, sampled), width, height);
 }
 
 }  // namespace sdfstream::probe

@@ -61,7 +61,8 @@ class ProbeFieldCpu {
               const ProbeFrameInputs& inputs, std::uint64_t frame);
   void reset();
 
-  // irradiance(x, n, view) of the current probes, parallel over queries. GroupsShareTraces is
+  // irradiance(x, n, view) of the current probes, parallel over queries (0 for a query whose
+  // normal is zero, as on the GPU). GroupsShareTraces is
   // probe_sample.comp's rule (kProbeSampleShareLanes consecutive queries in the same cage split
   // its SDF tests, probeGroupSharesCage); PerQuery traces every query's own tests
   // (probeFieldIrradiance, what an engine's shader computes per pixel). `counts` (GroupsShareTraces
@@ -76,6 +77,12 @@ class ProbeFieldCpu {
                                 std::span<const gpu_shared::ProbeQuery> queries,
                                 SampleTraces traces = SampleTraces::AsSettings,
                                 SampleCounts* counts = nullptr) const;
+  // ProbeField::sampleHalfResolution's reference: an image of queries (width × height, row by
+  // row; zero normal: no surface) sampled at one pixel per 2×2 block in the GPU pass's order
+  // (gi/probe_upsample.h), the rest upsampled.
+  std::vector<glm::vec3> sampleHalfResolution(const CascadeStackImage& stack,
+                                              std::span<const gpu_shared::ProbeQuery> image,
+                                              std::uint32_t width, std::uint32_t height) const;
 
   // Ray `ray` of hit-cache rotation slot `slot` of global probe g, traced afresh against `stack`
   // from the probe's current position with the last frame's constants (tests compare it with

@@ -1,7 +1,9 @@
 #version 450
 // Batched irradiance(x, n, view) queries of the probe field (probeFieldIrradiance): one
 // invocation per query (position.w = 1 + cascade samples that cascade alone, 0 = all);
-// results rgb = irradiance, a = 0.
+// results rgb = irradiance, a = 0. A query whose normal is zero has no surface: irradiance 0.
+// At half resolution, one invocation per 2×2 block of an image of queries (probe_upsample.glsl;
+// probe_upsample.comp then fills in the other pixels).
 //
 // The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries are expected in
 // pixel tiles (ProbeField::sample), so kProbeSampleShareLanes consecutive ones (a group) are
@@ -15,6 +17,8 @@
 // 0.48 -> 0.60 ms with Chebyshev alone, which traces nothing: the code, not the loads, cost it).
 #define PROBE_DISTANCE_ATLAS_ONLY
 #include "shaders/probe_bindings.glsl"
+#define PROBE_UPSAMPLE_QUERY(i) queries[i]
+#include "shaders/probe_upsample.glsl"
 
 const uint kNoCage = 0xffffffffu;
 shared uint sharedCascade[64][2];
@@ -36,10 +40,31 @@ void main() {
   uint lane = gl_LocalInvocationIndex;
   uint lead = lane & ~(kProbeSampleShareLanes - 1u);
   bool valid = id < pc.dispatch.y;
-  ProbeQuery q = queries[min(id, max(pc.dispatch.y, 1u) - 1u)];
+  // A list (dispatch.z = 0): query id, result id. At half resolution (dispatch.zw = the
+  // full-resolution image's size, probe_upsample.glsl): the low-resolution pixel of invocation
+  // id in tile order, its block's sampled pixel's query, a result per low-resolution pixel.
+  uint queryIndex = min(id, max(pc.dispatch.y, 1u) - 1u);
+  uint resultIndex = id;
+  uint halfPixel = 0u;  // the sampled pixel's index in its block (4: none)
+  bool halfImage = pc.dispatch.z != 0u;
+  if (halfImage) {
+    uint width = pc.dispatch.z;
+    uint height = pc.dispatch.w;
+    uint lowWidth = (width + 1u) / 2u;
+    uvec2 block = probeTiledPixel(id, lowWidth);
+    bool inside = block.x < lowWidth && block.y < (height + 1u) / 2u;
+    halfPixel = inside ? probeHalfSampledPixel(block, width, height) : 4u;
+    uvec2 pixel = block * 2u + uvec2(halfPixel & 1u, halfPixel >> 1u);
+    queryIndex = halfPixel < 4u ? pixel.x + width * pixel.y : 0u;
+    resultIndex = block.x + lowWidth * block.y;
+    valid = valid && inside;
+  }
+  ProbeQuery q = queries[queryIndex];
+  // No surface (a normal of zero): irradiance 0, and the lane takes no part in sharing.
+  bool surface = valid && probeQueryHasSurface(q);
   ProbeFieldPlan plan;
   plan.count = 0u;
-  if (valid)
+  if (surface)
     plan = probeFieldPlan(frame, q.position.xyz, q.normal.xyz, q.view.xyz, int(q.position.w) - 1);
   // Cages by constant indices or probePlanCage only: a variable index keeps the plan in local
   // memory (probe_sample.glsl, probeFieldPlan).
@@ -76,13 +101,17 @@ void main() {
   }
   barrier();
   if (!valid) return;
+  if (!surface) {
+    results[resultIndex] = vec4(0.0, 0.0, 0.0, halfImage ? -1.0 : 0.0);
+    return;
+  }
   uint visible0 = sharedVisible[lane][0];
   uint visible1 = sharedVisible[lane][1];
   for (uint k = 0u; k < kProbeSampleShareLanes; ++k) {
     if ((sharesMask & 1u) != 0u) visible0 |= sharedVisible[lead + k][0];
     if ((sharesMask & 2u) != 0u) visible1 |= sharedVisible[lead + k][1];
   }
-  results[id] = vec4(probeFieldFinish(frame, plan, q.position.xyz, q.normal.xyz, q.view.xyz,
-                                      visible0, visible1),
-                     0.0);
+  results[resultIndex] = vec4(probeFieldFinish(frame, plan, q.position.xyz, q.normal.xyz,
+                                               q.view.xyz, visible0, visible1),
+                              halfImage ? float(halfPixel) : 0.0);
 }

@@ -165,7 +165,9 @@ SDF_CONST float kProbeDepthListFloor = 3e-5f;  // of the texel's nearest ray's w
 SDF_CONST uint kProbeSampleShareLanes = 8u;
 
 struct ProbePushConstants {
-  uvec4 dispatch;  // x: mode, y: threads of this dispatch, zw unused
+  // x: mode, y: threads of this dispatch; sampling at half resolution (probe_sample.comp,
+  // probe_upsample.comp): z, w = the full-resolution image's width and height (z = 0: a list)
+  uvec4 dispatch;
 };
 
 // Frame statistics (one storage buffer of uints, atomically accumulated on the GPU).
