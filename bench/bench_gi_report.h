@@ -65,6 +65,9 @@ struct ConfigResult {
   // region (reference::flatRegionSpread); < 0: no region or no reference.
   double flatSpread = -1.0, flatSpreadReference = -1.0;
   int framesToConverge = -1;  // after the light switches back on; -1 = not within the cap
+  // Half-resolution configs: relMSE of the last measured frame's E against full-resolution
+  // sampling of the same field (the upsample's own error, apart from the GI's); < 0: not one.
+  double halfVsFullRelMSE = -1.0;
   int convergeCap = 0;
   // Device memory, MiB.
   double probeMiB = 0, lightMiB = 0, atlasMiB = 0;

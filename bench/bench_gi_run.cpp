@@ -220,6 +220,14 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
       std::printf("      frame %llu: relMSE %.4f\n", (unsigned long long)frame_ - 1,
                   reference::relMSE(e, sc_.points.reference));
   }
+  if (cfg_.halfResolution && !e.empty()) {
+    const std::vector<glm::vec3> tiled = gi_.irradiance(sc_.sampleQueries);
+    std::vector<glm::vec3> full(tiled.size());
+    for (std::size_t k = 0; k < tiled.size(); ++k) full[sc_.sampleOrder[k]] = tiled[k];
+    r.halfVsFullRelMSE = reference::relMSE(e, full);
+    std::printf("    %s: against full-resolution sampling of the same field, relMSE %.5f\n",
+                cfg_.name.c_str(), r.halfVsFullRelMSE);
+  }
   for (auto& [name, v] : passes) r.passMs[name] = median(v);
   const double views = double(std::max<std::size_t>(1, sc_.points.views()));
   r.updateMs = median(update);
