@@ -445,7 +445,8 @@ const std::vector<std::string>& benchSceneNames() {
   return names;
 }
 
-std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path& dataDir,
+namespace {
+std::optional<BenchScene> loadNamedScene(const std::string& name, const fs::path& dataDir,
                                          const fs::path& largeWorld, std::string* skip) {
   std::printf("scene %s\n", name.c_str());
   if (name == "cornell-box") {
@@ -501,6 +502,37 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
           ": unknown scene (cornell-box, sponza, breakfast-room, courtyard, courtyard-sun, "
           "emissive-room, bunny, large-world)";
   return std::nullopt;
+}
+}  // namespace
+
+std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path& dataDir,
+                                         const fs::path& largeWorld, std::string* skip) {
+  const std::size_t at = name.find('@');
+  if (at == std::string::npos) return loadNamedScene(name, dataDir, largeWorld, skip);
+  std::optional<BenchScene> b = loadNamedScene(name.substr(0, at), dataDir, largeWorld, skip);
+  if (!b) return b;
+  // NAME@VIEW: that view alone, with the player -- the stack's centre -- at its camera, looking
+  // where it looks, as a game's GI follows its camera. The scene's own player position serves
+  // every view at once, so most of a view's points may lie in coarse cascades.
+  const std::string view = name.substr(at + 1);
+  std::size_t k = 0;
+  while (k < b->viewNames.size() && b->viewNames[k] != view) ++k;
+  if (k == b->viewNames.size() && !view.empty() &&
+      view.find_first_not_of("0123456789") == std::string::npos && std::stoul(view) < k)
+    k = std::stoul(view);
+  if (k == b->viewNames.size()) {
+    std::string names;
+    for (const std::string& n : b->viewNames) names += (names.empty() ? "" : ", ") + n;
+    *skip = name + ": no view '" + view + "' (views: " + names + ")";
+    return std::nullopt;
+  }
+  const reference::PinholeCamera camera = b->views[k];
+  b->views = {camera};
+  b->viewNames = {b->viewNames[k]};
+  b->streamCamera = glm::dvec3(camera.position);
+  b->viewDirection = glm::normalize(camera.forward);
+  b->description += "; view " + b->viewNames[0] + " alone, the player at its camera";
+  return b;
 }
 
 fs::path benchScenePack(const BenchScene& scene, const fs::path& cacheDir, double* importSeconds) {

@@ -61,8 +61,9 @@ struct BenchScene {
 const std::vector<std::string>& benchSceneNames();
 
 // Scenes by name (cornell-box, sponza, breakfast-room, courtyard, emissive-room, bunny,
-// large-world). Returns nullopt and sets *skip to a one-line reason when the scene's data is
-// absent. dataDir is ../shared/data.
+// large-world), or NAME@VIEW: the scene with that view alone (its name or index) and the player,
+// where the stack is centred, at that view's camera. Returns nullopt and sets *skip to a
+// one-line reason when the scene's data or the view is absent. dataDir is ../shared/data.
 std::optional<BenchScene> loadBenchScene(const std::string& name,
                                          const std::filesystem::path& dataDir,
                                          const std::filesystem::path& largeWorld,

@@ -50,7 +50,8 @@ constexpr const char* kHelp =
     "  --scenes LIST  of cornell-box,sponza,breakfast-room,courtyard,courtyard-sun,\n"
     "                 emissive-room,bunny,large-world (default: cornell-box,sponza,\n"
     "                 breakfast-room,courtyard,emissive-room,large-world; missing data is\n"
-    "                 skipped with a message)\n"
+    "                 skipped with a message); NAME@VIEW: that view (name or index) alone,\n"
+    "                 with the player (the stack's centre) at its camera\n"
     "  --out DIR      default out/bench-gi        --data DIR  default ../shared/data\n"
     "  --large-world  default out/worlds/village-4km (a pack; skipped when absent)\n"
     "  --frames N     warm-up frames per configuration (default 32, quick 8)\n"
@@ -117,7 +118,7 @@ int runBenchGi(int argc, char** argv) {
   opt.scenes = scenes ? splitList(*scenes) : bench::defaultGiBenchScenes(opt);
   const std::vector<std::string>& known = bench::benchSceneNames();
   for (const std::string& name : opt.scenes)
-    if (std::find(known.begin(), known.end(), name) == known.end())
+    if (std::find(known.begin(), known.end(), name.substr(0, name.find('@'))) == known.end())
       throw InputError(
           InputErrorKind::Usage, "command line",
           "unknown scene '" + name +

@@ -59,6 +59,26 @@ TEST(BenchGi, BuiltInCornellBoxWritesCsvSummaryAndPlot) {
   EXPECT_NE(bad.out.find("unknown scene 'atlantis'"), std::string::npos) << bad.out;
 }
 
+// NAME@VIEW: one view of a scene, the player (where the stack is centred) at its camera. By
+// index or name; a view the scene lacks is skipped with a message naming the ones it has.
+TEST(BenchGi, OneViewWithThePlayerAtItsCamera) {
+  const fs::path dir = test::scratchDir("bench-gi-view");
+  const fs::path empty = dir / "no-data";
+  fs::create_directories(empty);
+  const Result r = runCli("bench gi --scenes cornell-box@1,cornell-box@attic --data " +
+                          empty.string() + " --out " + (dir / "out").string() +
+                          " --configs spacing-4 --frames 1 --measure 1 --converge-cap 0"
+                          " --samples 8 --width 24 --height 18 --no-peers");
+  ASSERT_EQ(r.exitCode, 0) << r.out;
+  EXPECT_NE(r.out.find("cornell-box@attic: no view 'attic' (views: front, corner)"),
+            std::string::npos)
+      << r.out;
+  const std::string md = test::readText(dir / "out" / "summary.md");
+  EXPECT_NE(md.find("view corner alone, the player at its camera"), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(dir / "out" / "cornell-box@1" / "corner-reference.png"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "cornell-box@1" / "front-reference.png"));
+}
+
 // --diagnose on the built-in Cornell box: the probe rays against Embree by cascade, the albedo
 // the hits read, the probes' own irradiance and the bounce split land in summary.md with figures
 // that are physically bounded (rays counted, sky fractions and ratios in range).
