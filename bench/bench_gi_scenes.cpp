@@ -446,6 +446,22 @@ const std::vector<std::string>& benchSceneNames() {
 }
 
 namespace {
+// The fewest cascades, at most the pack's LODs and never fewer than `fewest`, whose coarsest
+// probe grid holds the scene's bounds around the player. A receiver beyond the coarsest grid has
+// no cage of its own: it reads the border probes, whose rays left the stack there and brought
+// back the sky (Sponza from its own cameras, 4 cascades: E/E_ref 1.25-2.19, relMSE 2.4-3.5).
+// Cascade c's grid reaches 64 voxels of 2^c from the window's centre, less the page the window
+// snaps by and half a probe spacing where the cascade blend needs it: 52 voxels of 2^c.
+int cascadesCovering(const TriangleScene& s, glm::dvec3 player, double voxel, int lods,
+                     int fewest) {
+  const glm::dvec3 reach = glm::max(glm::abs(glm::dvec3(s.boundsMin()) - player),
+                                    glm::abs(glm::dvec3(s.boundsMax()) - player));
+  const double farthest = std::max({reach.x, reach.y, reach.z});
+  int c = std::max(fewest, 1);
+  while (c < lods && 52.0 * voxel * double(1 << (c - 1)) < farthest) ++c;
+  return c;
+}
+
 std::optional<BenchScene> loadNamedScene(const std::string& name, const fs::path& dataDir,
                                          const fs::path& largeWorld, std::string* skip) {
   std::printf("scene %s\n", name.c_str());
@@ -532,6 +548,15 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
   b->streamCamera = glm::dvec3(camera.position);
   b->viewDirection = glm::normalize(camera.forward);
   b->description += "; view " + b->viewNames[0] + " alone, the player at its camera";
+  if (b->triangles) {
+    const int cascades =
+        cascadesCovering(*b->triangles, b->streamCamera, b->voxelSize, b->lods, b->defaultCascades);
+    if (cascades != b->defaultCascades)
+      b->description += " (" + std::to_string(cascades) +
+                        " cascades by default to hold the scene from there, not " +
+                        std::to_string(b->defaultCascades) + ")";
+    b->defaultCascades = cascades;
+  }
   return b;
 }
 
