@@ -253,13 +253,7 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   queries_.recordCopy(batch, qBytes);
   batch.dispatch("probe_sample", sample_, bindings(scene, light, true), &pc, sizeof pc,
                  spread(pc.dispatch.y));
-  results_.recordCopy(batch, rBytes);
-  batch.submitAndWait();
-  timings_ = batch.timings();
-  std::vector<glm::vec3> out(queries.size());
-  const auto* r = static_cast<const glm::vec4*>(results_.host());
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
-  return out;
+  return finishSampling(batch, queries.size());
 }
 
 std::vector<glm::vec3> ProbeField::sampleHalfResolution(
@@ -290,10 +284,14 @@ std::vector<glm::vec3> ProbeField::sampleHalfResolution(
   batch.dispatch("probe_upsample", upsample_,
                  {&queries_.device(), &halfResults_, &results_.device()}, &up, sizeof up,
                  spread(up.dispatch.y));
-  results_.recordCopy(batch, rBytes);
+  return finishSampling(batch, image.size());
+}
+
+std::vector<glm::vec3> ProbeField::finishSampling(gpu::CommandBatch& batch, std::size_t count) {
+  results_.recordCopy(batch, count * sizeof(glm::vec4));
   batch.submitAndWait();
   timings_ = batch.timings();
-  std::vector<glm::vec3> out(image.size());
+  std::vector<glm::vec3> out(count);
   const auto* r = static_cast<const glm::vec4*>(results_.host());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = glm::vec3(r[i]);
   return out;

@@ -119,6 +119,9 @@ class ProbeField {
                                            const gpu::Buffer& lightRadiance,
                                            bool distanceAtlas = false,
                                            const gpu::Buffer* results = nullptr);
+  // Reads `count` results back through results_ once `batch` has sampled them, and keeps its
+  // timings.
+  std::vector<glm::vec3> finishSampling(gpu::CommandBatch& batch, std::size_t count);
   // Sizes the bounce cells to the scene's atlas (new cells empty; recorded into `batch`).
   void growBounceCells(gpu::CommandBatch& batch, const GpuStackScene& scene);
 
