@@ -593,14 +593,21 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
   }
   const std::vector<glm::vec3> atCorners = referenceAt(cornerAt, cornerNormal);
   double ideal = 0, refFirst = 0, giFirst = 0;
+  std::vector<glm::vec3> idealAt(m);
   for (std::size_t k = 0; k < m; ++k) {
     glm::vec3 sum(0.0f);
     for (std::uint32_t corner = 0; corner < 8; ++corner)
       sum += probe::trilinearWeight(alpha[k], corner) * atCorners[k * 8 + corner];
+    idealAt[k] = sum;
     ideal += luminance(sum);
     refFirst += luminance(ref[k]);
     giFirst += luminance(e[k]);
   }
+  // The same as errors point by point: perfect probes' relMSE is what the grid's trilinear
+  // interpolation alone costs there, whatever the probes hold.
+  const std::span<const glm::vec3> refM(ref.data(), m), giM(e.data(), m);
+  const double idealRelMse = reference::relMSE(idealAt, refM);
+  const double giRelMse = reference::relMSE(giM, refM);
   const std::vector<glm::vec3> atSurface = gi_.irradiance(sc_.queries);
   double giAway = 0, refAway = 0, giHere = 0, refHere = 0;
   for (std::size_t k = 0; k < e.size(); ++k) {
@@ -609,16 +616,16 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
     giHere += luminance(atSurface[source[k]]);
     refHere += luminance(sc_.points.reference[source[k]]);
   }
-  char s[600];
+  char s[700];
   std::snprintf(s, sizeof s,
                 "\nReceivers moved one probe spacing off their surface along the normal (%zu "
                 "with a free way out): GI/reference there %.3f; the same receivers on their "
                 "surface %.3f. Perfect probes (the reference at the cage corners, "
                 "interpolated; %zu receivers): /reference %.3f, and the GI / perfect probes "
-                "%.3f.\n",
+                "%.3f; relMSE against the reference there: perfect probes %.4f, the GI %.4f.\n",
                 e.size(), refAway > 0 ? giAway / refAway : 0.0,
                 refHere > 0 ? giHere / refHere : 0.0, m, refFirst > 0 ? ideal / refFirst : 0.0,
-                ideal > 0 ? giFirst / ideal : 0.0);
+                ideal > 0 ? giFirst / ideal : 0.0, idealRelMse, giRelMse);
   std::printf("    diagnose:%s", s + 1);
   into.diagnosis += s;
 }
