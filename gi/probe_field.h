@@ -36,8 +36,8 @@ class ProbeField {
   ProbeField(gpu::Context& context, const ProbeFieldSettings& settings, std::uint32_t cascades);
 
   // Makes the passes' pipelines for the atlas the scene will most likely hold
-  // (GpuStackScene::cellCorners) now rather than in the first frame that records them. Optional:
-  // a frame makes whatever variant it needs and has not got yet.
+  // (GpuStackScene::cellCorners), and list sampling's, now rather than in the first frame that
+  // records them. Optional: a frame makes whatever variant it needs and has not got yet.
   void preparePipelines(bool cellCorners);
 
   // One frame: `scene` holds the stack the image describes (already synced), `lightRadiance`
@@ -134,7 +134,9 @@ class ProbeField {
   // The passes that bind the traced atlas, specialized on which one it is
   // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
   gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;
-  gpu::ComputePipeline sample_, upsample_;
+  // sample_: a list of queries (constant 0 off) or half resolution (on); probe_sample.comp.
+  gpu::ComputePipelinePair sample_;
+  gpu::ComputePipeline upsample_;
   // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,
