@@ -49,8 +49,7 @@ void main() {
   uint queryIndex = min(id, max(pc.dispatch.y, 1u) - 1u);
   uint resultIndex = id;
   uint halfPixel = 0u;  // the sampled pixel's index in its block (4: none)
-  bool halfImage = kHalfImage;
-  if (halfImage) {
+  if (kHalfImage) {
     uint width = pc.dispatch.z;
     uint height = pc.dispatch.w;
     uint lowWidth = (width + 1u) / 2u;
@@ -105,7 +104,7 @@ void main() {
   barrier();
   if (!valid) return;
   if (!surface) {
-    results[resultIndex] = vec4(0.0, 0.0, 0.0, halfImage ? -1.0 : 0.0);
+    results[resultIndex] = vec4(0.0, 0.0, 0.0, kHalfImage ? -1.0 : 0.0);
     return;
   }
   uint visible0 = sharedVisible[lane][0];
@@ -116,5 +115,5 @@ void main() {
   }
   results[resultIndex] = vec4(probeFieldFinish(frame, plan, q.position.xyz, q.normal.xyz,
                                                q.view.xyz, visible0, visible1),
-                              halfImage ? float(halfPixel) : 0.0);
+                              kHalfImage ? float(halfPixel) : 0.0);
 }

@@ -165,8 +165,8 @@ SDF_CONST float kProbeDepthListFloor = 3e-5f;  // of the texel's nearest ray's w
 SDF_CONST uint kProbeSampleShareLanes = 8u;
 
 struct ProbePushConstants {
-  // x: mode, y: threads of this dispatch; sampling at half resolution (probe_sample.comp,
-  // probe_upsample.comp): z, w = the full-resolution image's width and height (z = 0: a list)
+  // x: mode, y: threads of this dispatch; sampling at half resolution (probe_sample.comp's
+  // kHalfImage variant, probe_upsample.comp): z, w = the full-resolution image's width and height
   uvec4 dispatch;
 };
 
