@@ -97,38 +97,41 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   // the instance's id, its block: ids are distinct, as InstanceSet's are); whatever changes the
   // shared block lists or free lists is applied serially after, in instance order, so the
   // result does not depend on the threads.
-  const bool overCap =  // at level 0: a cap that level 0 fits needs no distances
-      parallelSum<std::uint64_t>(instances.size(), [&](std::size_t i) -> std::uint64_t {
-        const std::uint32_t mesh = instances[i].info.x;
-        return mesh < meshTexels.size() ? meshTexels[mesh] : 0u;
-      }) > capacityTexels;
+  // Each instance's distance to the viewer (for levels and the cap: cheap enough to compute
+  // whether or not they are needed), found with the lookup below.
   std::vector<float>& distance = distance_;
-  if (byDistance || overCap) {
-    distance.resize(instances.size());
-    parallelEach(instances.size(), [&](std::size_t i) {
-      const glm::vec3 lo(instances[i].boundsMin), hi(instances[i].boundsMax);
-      distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
-    });
-  }
+  distance.resize(instances.size());
   // Blocks of instances gone this frame (or now showing another mesh) go back to their mesh's
   // free list first, so this frame's newcomers can take them; so do blocks of another level than
   // the instance's now (a new block of the right size is handed out below and relit first, as
-  // never lit). One lookup per instance here.
+  // never lit). One lookup per instance here, which also sums the texels the instances want.
   std::vector<std::uint32_t>& level = level_;
-  level.assign(instances.size(), 0u);
+  level.resize(instances.size());
   // Per instance: first whether its block changes level, below its state in the relight list.
   std::vector<std::uint8_t>& flag = flag_;
-  flag.assign(instances.size(), 0u);
-  parallelEach(instances.size(), [&](std::size_t i) {
-    const gs::ObjectInstanceGpu& inst = instances[i];
-    Block* block = find(inst.info.z);
-    const bool sameMesh = block && block->mesh == inst.info.x;
-    if (sameMesh) block->seenFrame = frame_;
-    if (!byDistance) return;
-    const int current = sameMesh ? int(block->level) : -1;
-    level[i] = levelAt(distance[i], levels.beyond, current);
-    flag[i] = current >= 0 && std::uint32_t(current) != level[i] ? 1u : 0u;
-  });
+  flag.resize(instances.size());
+  auto texelsOf = [&](std::uint32_t i) -> std::uint32_t {
+    const std::uint32_t mesh = instances[i].info.x;
+    if (mesh >= meshTexels.size() || meshTexels[mesh] == 0) return 0u;
+    return byDistance ? levels.texels[mesh * kLevels + level[i]] : meshTexels[mesh];
+  };
+  const std::uint64_t wanted =
+      parallelSum<std::uint64_t>(instances.size(), [&](std::size_t i) -> std::uint64_t {
+        const gs::ObjectInstanceGpu& inst = instances[i];
+        const glm::vec3 lo(inst.boundsMin), hi(inst.boundsMax);
+        distance[i] = glm::length(glm::max(glm::max(lo - viewer, viewer - hi), glm::vec3(0.0f)));
+        Block* block = find(inst.info.z);
+        const bool sameMesh = block && block->mesh == inst.info.x;
+        if (sameMesh) block->seenFrame = frame_;
+        level[i] = 0;
+        flag[i] = 0;
+        if (byDistance) {
+          const int current = sameMesh ? int(block->level) : -1;
+          level[i] = levelAt(distance[i], levels.beyond, current);
+          flag[i] = current >= 0 && std::uint32_t(current) != level[i] ? 1u : 0u;
+        }
+        return texelsOf(std::uint32_t(i));
+      });
   for (std::uint32_t i = 0; i < instances.size(); ++i) {
     if (!flag[i]) continue;
     release(instances[i].info.z);
@@ -142,15 +145,8 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
       ++k;
     }
   }
-  auto texelsOf = [&](std::uint32_t i) -> std::uint32_t {
-    const std::uint32_t mesh = instances[i].info.x;
-    if (mesh >= meshTexels.size() || meshTexels[mesh] == 0) return 0u;
-    return byDistance ? levels.texels[mesh * kLevels + level[i]] : meshTexels[mesh];
-  };
   // Over the cap: keep the nearest instances whose blocks fit, hand out blocks nearest first,
   // and evict the rest (their blocks return to the free lists before anyone allocates).
-  const std::uint64_t wanted = parallelSum<std::uint64_t>(
-      instances.size(), [&](std::size_t i) -> std::uint64_t { return texelsOf(std::uint32_t(i)); });
   std::vector<std::uint32_t>& order = order_;
   order.resize(instances.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -256,14 +252,30 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
     key[i] = keyOf(inst, added);
     flag[i] = kLit;
   }
-  std::vector<Candidate>& candidates = candidates_;
-  candidates.clear();
-  for (std::uint32_t i = 0; i < instances.size(); ++i)
-    if (flag[i] == kLit) candidates.push_back({key[i], i});
-  const std::size_t take = std::min<std::size_t>(budget, candidates.size());
+  // The `budget` smallest keys (ties: the lower index) among the lit instances, in parallel:
+  // each chunk of instances keeps its own `budget` smallest, and the smallest of all lie among
+  // those, so only the chunks' survivors are selected from serially.
   auto byKey = [](const Candidate& a, const Candidate& b) {
     return a.key != b.key ? a.key < b.key : a.index < b.index;
   };
+  const std::size_t chunks = (instances.size() + kInstancesPerTask - 1) / kInstancesPerTask;
+  if (chunkCandidates_.size() < chunks) chunkCandidates_.resize(chunks);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::vector<Candidate>& local = chunkCandidates_[c];
+    local.clear();
+    const std::size_t end = std::min(instances.size(), (c + 1) * kInstancesPerTask);
+    for (std::size_t i = c * kInstancesPerTask; i < end; ++i)
+      if (flag[i] == kLit) local.push_back({key[i], std::uint32_t(i)});
+    if (local.size() > budget) {
+      std::nth_element(local.begin(), local.begin() + budget, local.end(), byKey);
+      local.resize(budget);
+    }
+  });
+  std::vector<Candidate>& candidates = candidates_;
+  candidates.clear();
+  for (std::size_t c = 0; c < chunks; ++c)
+    candidates.insert(candidates.end(), chunkCandidates_[c].begin(), chunkCandidates_[c].end());
+  const std::size_t take = std::min<std::size_t>(budget, candidates.size());
   if (take < candidates.size())
     std::nth_element(candidates.begin(), candidates.begin() + take, candidates.end(), byKey);
   // The texel budget cuts the first `take` in key order (sorting only those).
@@ -278,10 +290,17 @@ std::vector<std::uint32_t> CardLightSlots::assign(std::span<gs::ObjectInstanceGp
   }
   std::sort(relight.begin(), relight.end());
   for (std::uint32_t i : relight) blocks_[instances[i].info.z].litFrame = frame_;
-  for (const Candidate& c : candidates) {
-    const std::uint64_t lit = blocks_[instances[c.index].info.z].litFrame;
-    stats_.maxStaleFrames = std::max(stats_.maxStaleFrames, lit == 0 ? frame_ : frame_ - lit);
-  }
+  stats_.maxStaleFrames = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, instances.size(), kInstancesPerTask), std::uint64_t(0),
+      [&](const tbb::blocked_range<std::size_t>& range, std::uint64_t stale) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          if (flag[i] != kLit) continue;
+          const std::uint64_t lit = blocks_[instances[i].info.z].litFrame;
+          stale = std::max(stale, lit == 0 ? frame_ : frame_ - lit);
+        }
+        return stale;
+      },
+      [](std::uint64_t a, std::uint64_t b) { return std::max(a, b); });
   stats_.relit = std::uint32_t(relight.size());
   return relight;
 }

@@ -105,6 +105,7 @@ class CardLightSlots {
   std::vector<std::uint8_t> kept_, flag_;
   std::vector<std::int64_t> key_;
   std::vector<Candidate> candidates_;
+  std::vector<std::vector<Candidate>> chunkCandidates_;  // per chunk of instances
   std::uint64_t end_ = 0;
   std::uint64_t frame_ = 0;
   std::uint64_t lightsFrame_ = 0;  // the frame of the last light change

@@ -87,6 +87,42 @@ void InstanceSet::move(InstanceId id, const ObjectTransform& pose) {
   instance.movedThisFrame = true;
 }
 
+void InstanceSet::move(std::span<const InstanceId> ids, std::span<const ObjectTransform> poses) {
+  if (ids.size() != poses.size())
+    throw std::invalid_argument("InstanceSet::move: " + std::to_string(ids.size()) + " ids but " +
+                                std::to_string(poses.size()) + " poses");
+  if (ids.size() >= std::size_t(UINT32_MAX))
+    throw std::length_error("InstanceSet::move: too many pairs in one batch");
+  constexpr std::size_t kPairsPerTask = 1024;
+  auto each = [&](auto body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), kPairsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t k = range.begin(); k != range.end(); ++k) body(k);
+                      });
+  };
+  // Every check before any change, so a throw (the first task's, rethrown) leaves the set as it
+  // was.
+  each([&](std::size_t k) {
+    slotOf(ids[k]);
+    poses[k].validate();
+  });
+  // The change record is ordered, so it is kept serially (a lookup and, for an instance's first
+  // change of the frame, a copy of its start pose); each slot remembers the last pair moving it,
+  // so that a repeated id stores its last pose alone and no two tasks write one instance.
+  lastMove_.resize(instances_.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const std::uint32_t slot = slot_[ids[k]];
+    recordChange(instances_[slot], true);
+    lastMove_[slot] = std::uint32_t(k);
+  }
+  each([&](std::size_t k) {
+    const std::uint32_t slot = slot_[ids[k]];
+    if (lastMove_[slot] != k) return;
+    instances_[slot].pose = poses[k];
+    instances_[slot].movedThisFrame = true;
+  });
+}
+
 void InstanceSet::remove(InstanceId id) {
   const std::uint32_t slot = slotOf(id);
   recordChange(instances_[slot], true);

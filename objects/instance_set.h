@@ -56,6 +56,12 @@ class InstanceSet {
   InstanceId add(std::uint32_t mesh, const ObjectTransform& pose);
   // Unknown (or removed) id: std::out_of_range naming the id; bad pose: std::invalid_argument.
   void move(InstanceId id, const ObjectTransform& pose);
+  // Moves ids[k] to poses[k] for every k: the same as move() on each pair in order (a later pair
+  // of the same id wins; the change record keeps the frame's start pose and lists instances in
+  // order of first change), with the checks and the stores in parallel (TBB): thousands of
+  // movers a frame. All or nothing: an unknown id (std::out_of_range) or a bad pose
+  // (std::invalid_argument) moves none. Spans of different lengths: std::invalid_argument.
+  void move(std::span<const InstanceId> ids, std::span<const ObjectTransform> poses);
   // O(1): the last instance takes the removed one's slot. Unknown id: std::out_of_range.
   void remove(InstanceId id);
 
@@ -94,6 +100,7 @@ class InstanceSet {
   std::vector<std::uint32_t> slot_;  // by id: index into instances_, or kAbsent
   std::vector<Change> changes_;
   std::vector<std::uint32_t> changeOf_;  // by id: index into changes_, or kAbsent (this frame)
+  std::vector<std::uint32_t> lastMove_;  // by slot: the batch move's last pair for it (scratch)
 };
 
 }  // namespace sdfstream

@@ -91,22 +91,29 @@ ObjectTransform ScriptedMotion::poseAt(std::size_t binding, double t) const {
 }
 
 void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
-  // Poses in parallel (each a pure function of t), then the moves in order: InstanceSet is not
-  // thread-safe, and a move is a few stores next to a pose's trigonometry. The pose buffer is
-  // kept between calls (no per-frame allocation).
+  // Poses in parallel (each a pure function of t), then the changed ones gathered in binding
+  // order and moved as one batch (InstanceSet::move checks and stores them in parallel too). The
+  // scratch buffers are kept between calls (no per-frame allocation).
+  changed_.resize(bindings_.size());
   poses_.resize(bindings_.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bindings_.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const Instance* instance = set.find(bindings_[i].id);
-                        poses_[i].reset();
+                        changed_[i] = 0;
                         if (!instance) continue;
-                        const ObjectTransform pose = poseAt(i, timeSeconds);
-                        if (pose != instance->pose) poses_[i] = pose;
+                        poses_[i] = poseAt(i, timeSeconds);
+                        changed_[i] = poses_[i] != instance->pose ? 1 : 0;
                       }
                     });
-  for (std::size_t i = 0; i < bindings_.size(); ++i)
-    if (poses_[i]) set.move(bindings_[i].id, *poses_[i]);
+  moveIds_.clear();
+  movePoses_.clear();
+  for (std::size_t i = 0; i < bindings_.size(); ++i) {
+    if (!changed_[i]) continue;
+    moveIds_.push_back(bindings_[i].id);
+    movePoses_.push_back(poses_[i]);
+  }
+  set.move(moveIds_, movePoses_);
 }
 
 ScriptedMotion spreadObjects(InstanceSet& set, ObjectLibrary& lib, std::uint32_t count,

@@ -78,7 +78,11 @@ class ScriptedMotion {
     std::vector<double> pathLength;  // Path: length from points[0] to each point, then the loop
   };
   std::vector<Binding> bindings_;
-  mutable std::vector<std::optional<ObjectTransform>> poses_;  // apply's scratch, by binding
+  // apply's scratch: by binding, whether its pose changed and the pose; then the moves.
+  mutable std::vector<std::uint8_t> changed_;
+  mutable std::vector<ObjectTransform> poses_;
+  mutable std::vector<InstanceId> moveIds_;
+  mutable std::vector<ObjectTransform> movePoses_;
 };
 
 // Adds `count` instances spread uniformly over `area` (world box) and returns their motion, all

@@ -518,6 +518,38 @@ TEST(CardLightSlots, MovedAndNeverLitFirstThenTheLongestUnlit) {
   EXPECT_EQ(all.size(), 10u) << "three frames of 4 relight all 10 after a change";
 }
 
+// The relight list is selected per chunk of instances in parallel: across thousands of
+// instances (several chunks) it is still exactly the smallest keys, ties to the lower index.
+TEST(CardLightSlots, TheRelightListAcrossManyInstancesIsTheSmallestKeys) {
+  CardLightSlots slots;
+  const std::uint32_t texels[1] = {10};
+  const std::uint32_t n = 9000;
+  std::vector<std::uint32_t> ids(n);
+  for (std::uint32_t i = 0; i < n; ++i) ids[i] = i;
+  auto frame = instancesOf(ids, 0, false);
+  EXPECT_EQ(slots.assign(frame, texels, false, n, 1u << 30).size(), n);  // all lit in frame 1
+  // Frame 2: every 37th moved (key 1 - 8), the rest lit in frame 1 (key 1); the budget takes
+  // the moved first, the lowest indices first when it cannot take them all.
+  std::vector<std::uint32_t> moved;
+  for (std::uint32_t i = 0; i < n; i += 37) {
+    frame[i].info.y = gs::kObjectFlagMoved;
+    moved.push_back(i);
+  }
+  const std::vector<std::uint32_t> some =
+      slots.assign(frame, texels, false, std::uint32_t(moved.size() / 2), 1u << 30);
+  EXPECT_EQ(some, std::vector<std::uint32_t>(moved.begin(), moved.begin() + moved.size() / 2));
+  // Frame 3: the moved ones lit in frame 2 now have key 2 - 8; those not taken, 1 - 8, go first,
+  // then the first moved of frame 2, then (key 1) the lowest indices of the rest.
+  const std::uint32_t budget = std::uint32_t(moved.size()) + 5;
+  const std::vector<std::uint32_t> next = slots.assign(frame, texels, false, budget, 1u << 30);
+  std::vector<std::uint32_t> expected(moved.begin(), moved.end());
+  for (std::uint32_t i = 0, extra = 0; extra < 5; ++i)
+    if (i % 37 != 0) expected.push_back(i), ++extra;
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(next, expected);
+  EXPECT_EQ(slots.stats().maxStaleFrames, 2u);  // the unmoved ones lit in frame 1, now frame 3
+}
+
 // The texel budget: the relight list stops before the texels exceed it, a mesh larger than the
 // budget is still relit (alone), and under lights that change every frame every instance still
 // comes round (oldest first).

@@ -163,6 +163,66 @@ TEST(InstanceSet, RandomOperationsAgreeWithAMap) {
   }
 }
 
+TEST(InstanceSet, BatchMoveEqualsMovingEachPairInOrder) {
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
+  const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
+  InstanceSet batched, oneByOne;
+  std::vector<InstanceId> ids;
+  for (int i = 0; i < 5000; ++i) {
+    ids.push_back(batched.add(mesh, at(i)));
+    oneByOne.add(mesh, at(i));
+  }
+  std::mt19937 rng(11);
+  for (int frame = 0; frame < 4; ++frame) {
+    batched.endFrame();
+    oneByOne.endFrame();
+    // Several batches a frame, with repeated ids inside a batch and across batches: the last
+    // pose wins, the record keeps the frame's start pose, in order of first change.
+    for (int batch = 0; batch < 3; ++batch) {
+      std::vector<InstanceId> moveIds;
+      std::vector<ObjectTransform> poses;
+      for (int k = 0; k < 3000; ++k) {
+        moveIds.push_back(ids[rng() % ids.size()]);
+        poses.push_back(at(double(rng() % 100000) / 8.0, frame, batch));
+      }
+      batched.move(moveIds, poses);
+      for (std::size_t k = 0; k < moveIds.size(); ++k) oneByOne.move(moveIds[k], poses[k]);
+    }
+    const std::vector<WorldBox> a = batched.changedBoxes(lib), b = oneByOne.changedBoxes(lib);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) ASSERT_TRUE(sameBox(a[k], b[k], 0.0)) << k;
+    for (InstanceId id : ids) {
+      ASSERT_EQ(batched.find(id)->pose, oneByOne.find(id)->pose) << id;
+      ASSERT_EQ(batched.find(id)->movedThisFrame, oneByOne.find(id)->movedThisFrame) << id;
+    }
+  }
+}
+
+TEST(InstanceSet, BatchMoveMovesNothingWhenAnyPairIsBad) {
+  ObjectLibrary lib(test::objectSdfResolution(8, 8));
+  const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
+  InstanceSet set;
+  std::vector<InstanceId> ids;
+  for (int i = 0; i < 3000; ++i) ids.push_back(set.add(mesh, at(i)));
+  set.remove(ids[7]);
+  set.endFrame();
+  std::vector<ObjectTransform> poses(ids.size(), at(-5));
+  std::vector<InstanceId> valid = ids;
+  valid[7] = ids[8];
+  ObjectTransform flat = at(1);
+  flat.scale.y = 0.0f;
+  std::vector<ObjectTransform> withFlat = poses;
+  withFlat[2999] = flat;
+  EXPECT_THROW(set.move(ids, poses), std::out_of_range);           // ids[7] was removed
+  EXPECT_THROW(set.move(valid, withFlat), std::invalid_argument);  // a zero scale
+  EXPECT_THROW(set.move(valid, std::span(poses).first(10)), std::invalid_argument);  // lengths
+  EXPECT_TRUE(set.changedBoxes(lib).empty());
+  for (const Instance& inst : set.instances()) {
+    EXPECT_FALSE(inst.movedThisFrame);
+    EXPECT_EQ(inst.pose.translation.x, double(inst.id));
+  }
+}
+
 TEST(InstanceSet, ChangedBoxesCoverOldAndNewPosesUntilEndFrame) {
   ObjectLibrary lib(test::objectSdfResolution(8, 8));
   const std::uint32_t mesh = lib.addBox(glm::vec3(0.5f), glm::vec4(1.0f));
