@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <string>
 
+#include <memory>
+
+#include <tbb/global_control.h>
 #include <tbb/info.h>
 
 #include "bench/report_format.h"
@@ -117,7 +120,12 @@ Parts runCount(const HostObjectsOptions& o, std::uint32_t count) {
 }  // namespace
 
 void runHostObjectsBench(const HostObjectsOptions& o) {
-  const int threads = tbb::info::default_concurrency();
+  std::unique_ptr<tbb::global_control> limit;
+  if (o.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                  std::size_t(o.threads));
+  const int threads =
+      int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   std::printf("bench host: %d frames after %d per count, %d threads\n", o.frames, o.warmup,
               threads);
   std::vector<Parts> results;

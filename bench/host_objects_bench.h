@@ -20,6 +20,9 @@ struct HostObjectsOptions {
   int warmup = 10;   // frames before measuring (the first adds every instance)
   std::uint32_t meshes = 2;
   std::uint64_t seed = 1;
+  // Worker threads (TBB's parallelism); 0: every core. Runs at 1, 4, 16 ... show which parts
+  // scale with the cores.
+  int threads = 0;
   std::filesystem::path out = "out/bench/host";
 };
 

@@ -174,17 +174,19 @@ int runStress(int argc, char** argv) {
 }
 
 int runBenchHost(int argc, char** argv) {
-  Args args(argc, argv, 3, {"--objects", "--frames", "--warmup", "--meshes", "--seed", "--out"},
+  Args args(argc, argv, 3,
+            {"--objects", "--frames", "--warmup", "--meshes", "--seed", "--threads", "--out"},
             {"--help", "-h"});
   if (args.has("--help") || args.has("-h") || !args.positional().empty()) {
     std::puts(
         "usage: sdfstream bench host [--objects 100,1000,10000,100000] [--frames 120]\n"
-        "       [--warmup 10] [--meshes 2] [--seed 1] [--out out/bench/host]\n"
+        "       [--warmup 10] [--meshes 2] [--seed 1] [--threads N] [--out out/bench/host]\n"
         "The moving objects' host work per frame, without a GPU: at each object count the spread\n"
         "objects and scripted motion of `sdfstream stress` (all moving), a synthetic stack of 4\n"
         "cascades (1 m voxels, every page resident) and a sun; times the motion, the object frame\n"
         "(instances, changed boxes and wake bits), the card light slots and the shadow pages on\n"
         "all cores and nothing else (stress's host figures share them with the Vulkan driver).\n"
+        "--threads N limits the worker threads (default: every core), to see which parts scale.\n"
         "Writes summary.md (medians by part, us per instance, scaling exponents) and results.csv.");
     return args.has("--help") || args.has("-h") ? 0 : 2;
   }
@@ -194,6 +196,7 @@ int runBenchHost(int argc, char** argv) {
   o.warmup = args.integer("--warmup", o.warmup, 0, 1000000);
   o.meshes = std::uint32_t(args.integer("--meshes", 2, 2, 64));
   o.seed = std::uint64_t(args.integer("--seed", 1, 0, std::numeric_limits<int>::max()));
+  o.threads = args.integer("--threads", 0, 1, 4096);
   o.out = args.value("--out").value_or(o.out.string());
   bench::runHostObjectsBench(o);
   return 0;

@@ -38,7 +38,7 @@ TEST(BenchHost, SmallRunTimesEveryPartAtEveryCount) {
   const fs::path out = fs::temp_directory_path() / ("bench-host-" + std::to_string(::getpid()));
   fs::remove_all(out);
   const test::CliResult r =
-      runCli("bench host --objects 20,200 --frames 4 --warmup 2 --out " + out.string());
+      runCli("bench host --objects 20,200 --frames 4 --warmup 2 --threads 1 --out " + out.string());
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("| objects | motion |"), std::string::npos) << r.out;
   std::ifstream md(out / "summary.md");
@@ -56,6 +56,7 @@ TEST(BenchHost, SmallRunTimesEveryPartAtEveryCount) {
     ASSERT_EQ(row.size(), header.size());
     EXPECT_EQ(row[column("objects")], k == 1 ? "20" : "200");
     EXPECT_EQ(row[column("frames")], "4");
+    EXPECT_EQ(row[column("threads")], "1");
     EXPECT_GT(std::stod(row[column("total_ms")]), 0.0);
     EXPECT_GT(std::stod(row[column("shadow_pages_ms")]), 0.0);
     EXPECT_GT(std::stod(row[column("instances_ms")]), 0.0);
@@ -69,7 +70,8 @@ TEST(BenchHost, SmallRunTimesEveryPartAtEveryCount) {
 TEST(BenchHost, BadArgumentsGetOneLineAndNoOutput) {
   const fs::path out = fs::temp_directory_path() / ("bench-host-bad-" + std::to_string(::getpid()));
   fs::remove_all(out);
-  for (const std::string& bad : {"--objects 10,x", "--frames 0", "--meshes 1", "--objects ,"}) {
+  for (const std::string& bad :
+       {"--objects 10,x", "--frames 0", "--meshes 1", "--objects ,", "--threads 0"}) {
     const test::CliResult r = runCli("bench host " + bad + " --out " + out.string());
     EXPECT_NE(r.exitCode, 0) << bad;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << bad << ": " << r.err;
