@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -224,10 +225,14 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   const std::span<const Instance> all = instances.instances();
   for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
   out.instances.resize(all.size());
+  // Regions of the AABB ranges, one bit each (the mean list length's denominator).
+  using RegionBits =
+      std::array<std::uint64_t, gs::kMaxRegionCascades * gs::kRegionsPerCascade / 64>;
   struct Totals {
     std::uint64_t capacity = 0, subCapacity = 0;
     std::uint32_t cascadeMask = 0, moved = 0;
     glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
+    RegionBits occupied{};
   };
   const Totals totals = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, all.size(), 256), Totals{},
@@ -249,6 +254,13 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
             t.capacity += regions;
             t.subCapacity += std::min(subCellVolume(f, c, g), regions * gs::kSubListMaxCells);
             t.cascadeMask |= 1u << c;
+            for (int z = lo.z; z <= hi.z; ++z)
+              for (int y = lo.y; y <= hi.y; ++y)
+                for (int x = lo.x; x <= hi.x; ++x) {
+                  const std::uint32_t r =
+                      c * gs::kRegionsPerCascade + std::uint32_t(x + 8 * (y + 8 * z));
+                  t.occupied[r / 64] |= std::uint64_t(1) << (r % 64);
+                }
           }
           out.instances[k] = g;
           t.lo = glm::min(t.lo, glm::vec3(g.boundsMin));
@@ -263,9 +275,12 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
         a.moved += b.moved;
         a.lo = glm::min(a.lo, b.lo);
         a.hi = glm::max(a.hi, b.hi);
+        for (std::size_t w = 0; w < a.occupied.size(); ++w) a.occupied[w] |= b.occupied[w];
         return a;
       });
   out.cascadeMask = totals.cascadeMask;
+  out.occupiedRegions = 0;
+  for (std::uint64_t w : totals.occupied) out.occupiedRegions += std::uint32_t(std::popcount(w));
   out.movedInstances = totals.moved;
   f.boundsMin = glm::vec4(totals.lo, 0.0f);
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
@@ -280,8 +295,12 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   out.wakeMs = millisecondsSince(instancesDone);
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
-  out.subListCapacity = std::uint32_t(std::min<std::uint64_t>(
-      totals.subCapacity + totals.subCapacity / 8 + 64, settings.maxSubListEntries));
+  const bool longLists = double(totals.capacity) >=
+                         double(settings.subListMinMeanEntries) * double(out.occupiedRegions);
+  out.subListCapacity =
+      longLists ? std::uint32_t(std::min<std::uint64_t>(
+                      totals.subCapacity + totals.subCapacity / 8 + 64, settings.maxSubListEntries))
+                : 0u;
   f.counts.z = out.listCapacity;
 }
 

@@ -35,6 +35,13 @@ struct ObjectSceneSettings {
   // lists a ray reads per sub-cell it crosses (object_layout.h). Regions whose lists do not fit
   // are walked with their region list alone (correct, slower).
   std::uint32_t maxSubListEntries = 1u << 20;
+  // Sub-cell lists are built only when the region lists are long: at least this many entries
+  // per occupied region on average (Σ instances' region ranges / regions some range touches).
+  // Shorter lists cost a ray a few box tests anyway, less than the two passes that build
+  // sub-cell lists cost the frame (docs/DECISIONS.md, "Sub-cell lists only where region lists
+  // are long"); without them every region is walked with its region list (kNoSubLists) and
+  // those passes are not recorded. 0: always built.
+  float subListMinMeanEntries = 8.0f;
   // Probe rays test every instance instead of walking the regions: the naive peer of the stress
   // benchmark (the regions are still built, so their cost is measured either way).
   bool naiveTraversal = false;
@@ -80,9 +87,11 @@ struct ObjectFrameData {
   std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
   // Sub-cell headers, and as many sub-cell entries: Σ instances' AABB sub-cell volumes (at most
   // kSubListMaxCells a region), at most ObjectSceneSettings::maxSubListEntries; regions whose
-  // sub-cell lists do not fit are walked without them (object_layout.h, kNoSubLists).
+  // sub-cell lists do not fit are walked without them (object_layout.h, kNoSubLists). 0: no
+  // sub-cell lists this frame (short region lists, ObjectSceneSettings::subListMinMeanEntries).
   std::uint32_t subListCapacity = 0;
   std::uint32_t cascadeMask = 0;   // bit c: some instance is listed in cascade c (AABB level)
+  std::uint32_t occupiedRegions = 0;  // regions some instance's AABB range touches
   std::uint32_t movedInstances = 0;
   std::uint32_t movedRegions = 0;  // regions with a wake bit (removals included)
   // InstanceSet::changedBounds of the frame (world space; each changed instance's start and end

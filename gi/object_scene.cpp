@@ -232,8 +232,10 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   if (n == 0) return;  // only removals: the moved flags, no lists to build
   const auto bufs = buffers();
   // The sub-cell headers start at zero (the sub-cell count phase adds into them).
-  batch.fill(lists_, 0u, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
-             std::size_t(frame_.subListCapacity) * sizeof(glm::uvec4));
+  const bool subLists = frame_.subListCapacity > 0;
+  if (subLists)
+    batch.fill(lists_, 0u, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
+               std::size_t(frame_.subListCapacity) * sizeof(glm::uvec4));
   gs::ObjectRegionPush push{0u, n,  cascades, frame_.listCapacity, frame_.subListCapacity,
                             0u, 0u, 0u};
   const glm::uvec3 perInstance(64u * n, cascades, 1u);
@@ -245,12 +247,14 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   push.phase = 2u;
   batch.dispatch("object_regions_scan", scanPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(gs::kRegionScanThreads, 1u, 1u));
-  push.phase = 3u;
-  batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
-                 perInstance);
-  push.phase = 4u;
-  batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
-                 glm::uvec3(64u * regions, 1u, 1u));
+  if (subLists) {  // else every region is kNoSubLists and these would find nothing to do
+    push.phase = 3u;
+    batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
+                   perInstance);
+    push.phase = 4u;
+    batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
+                   glm::uvec3(64u * regions, 1u, 1u));
+  }
   push.phase = 5u;
   batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push, perInstance);
 }

@@ -213,7 +213,7 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
     regions_[g].occupiedBounds = p.objOccupiedBounds(regions_[g].occupancy);
     std::size_t own = 0;
     for (const auto& list : subLists[g]) own += list.size();
-    const bool fits = headers + rank <= capacity && entries + own <= capacity;
+    const bool fits = capacity > 0 && headers + rank <= capacity && entries + own <= capacity;
     regions_[g].subBase = fits ? std::uint32_t(headerBase + headers) : gs::kNoSubLists;
     if (!fits) subLists[g].clear();
     headers += rank;

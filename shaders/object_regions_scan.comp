@@ -51,7 +51,9 @@ void main() {
     objRegions[r].wideCursor = 0u;
     uint rank = objRegions[r].subBase;  // the region's occupied sub-cells (rank pass)
     uint entries = objRegions[r].subStart;
-    bool fits = at.y + rank <= pc.subCapacity && at.z + entries <= pc.subCapacity;
+    // A capacity of 0: no sub-cell lists this frame (their passes are not recorded).
+    bool fits = pc.subCapacity > 0u && at.y + rank <= pc.subCapacity &&
+                at.z + entries <= pc.subCapacity;
     objRegions[r].subBase = fits ? pc.capacity + at.y : kNoSubLists;
     objRegions[r].subStart = pc.capacity + pc.subCapacity + min(at.z, pc.subCapacity);
     at += uvec3(n, rank, entries);

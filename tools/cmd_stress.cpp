@@ -65,7 +65,7 @@ const char* kHelp =
     "usage: sdfstream stress WORLD [--objects LIST] [--frames N] [--warmup N] [--out DIR]\n"
     "                        [--seed S] [--no-naive] [--naive-max N] [--no-cards-peer]\n"
     "                        [--meshes N] [--sun-orbit DEG] [--sub-list-entries N]\n"
-    "                        [--device NAME]\n"
+    "                        [--sub-list-min-mean X] [--device NAME]\n"
     "                        [--validation] [options]\n"
     "\n"
     "The moving-object stress benchmark (issue 7), headless. Streams the world pack WORLD around\n"
@@ -112,6 +112,9 @@ const char* kHelp =
     "                     sub-cell list capacity per frame, headers and as many entries\n"
     "                     (default 1048576); 0 walks every region with its region list alone,\n"
     "                     the walk without sub-cell lists to compare with\n"
+    "  --sub-list-min-mean X\n"
+    "                     build sub-cell lists only when the region lists hold at least X\n"
+    "                     entries per occupied region on average (default 8; 0: always)\n"
     "  --cascades N       cascades (default 6, at most the pack's LOD count)\n"
     "  --camera x,y,z     camera position (default: above the centre of the world's bounds,\n"
     "                     2 m over the surface below it); it looks along -z, slightly down\n"
@@ -129,11 +132,12 @@ const char* kHelp =
 }  // namespace
 
 int runStress(int argc, char** argv) {
-  Args args(argc, argv, 2,
-            {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
-             "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays",
-             "--probe-budget", "--sun", "--sky", "--meshes", "--sun-orbit", "--sub-list-entries"},
-            {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
+  Args args(
+      argc, argv, 2,
+      {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
+       "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays", "--probe-budget",
+       "--sun", "--sky", "--meshes", "--sun-orbit", "--sub-list-entries", "--sub-list-min-mean"},
+      {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -167,6 +171,10 @@ int runStress(int argc, char** argv) {
   o.settings = render.renderer.settings;
   o.settings.objects.maxSubListEntries = std::uint32_t(
       args.integer("--sub-list-entries", int(o.settings.objects.maxSubListEntries), 0, 1 << 24));
+  const double minMean =
+      args.number("--sub-list-min-mean", o.settings.objects.subListMinMeanEntries);
+  if (minMean < 0.0) usage("--sub-list-min-mean must be >= 0");
+  o.settings.objects.subListMinMeanEntries = float(minMean);
   o.lights = render.lights;
   o.device = *deviceFromArgs(args);  // no --cpu: the objects need Vulkan
   o.command = commandLine(argc, argv, 0);

@@ -8,6 +8,7 @@
 #include <bit>
 #include <random>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -38,8 +39,10 @@ std::vector<std::vector<std::uint32_t>> gpuLists(const ObjectScene& scene) {
 // every occupied sub-cell, the instances listed there equal the brute-force lists of the CPU
 // reference, and the box of the occupied sub-cells equals the one the bits give; the wide entries
 // come first in the region list.
+// built: the frame has sub-cell lists (else every region is walked with its region list).
 void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
-                             const std::vector<glm::uvec4>& entryData, const ObjectSceneCpu& cpu) {
+                             const std::vector<glm::uvec4>& entryData, const ObjectSceneCpu& cpu,
+                             bool built) {
   std::size_t wideDiffer = 0, rankDiffer = 0, listsDiffer = 0, withoutLists = 0, subLists = 0,
               subEntries = 0, wideEntries = 0, wideFirst = 0, boundsDiffer = 0;
   for (std::uint32_t r = 0; r < regions.size(); ++r) {
@@ -87,8 +90,13 @@ void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
       "entries out of order\n",
       subLists, subEntries, wideEntries, withoutLists, wideDiffer, rankDiffer, boundsDiffer,
       listsDiffer, wideFirst);
-  EXPECT_GT(subLists, 0u);
-  EXPECT_EQ(withoutLists, 0u) << "the host sizes the sub-cell lists so that they always fit";
+  if (built) {
+    EXPECT_GT(subLists, 0u);
+    EXPECT_EQ(withoutLists, 0u) << "the host sizes the sub-cell lists so that they always fit";
+  } else {
+    EXPECT_EQ(subLists, 0u);
+    EXPECT_GT(withoutLists, 0u);
+  }
   EXPECT_EQ(wideDiffer, 0u);
   EXPECT_EQ(rankDiffer, 0u);
   EXPECT_EQ(boundsDiffer, 0u);
@@ -173,7 +181,7 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   EXPECT_EQ(occupancyDiffer, 0u);
   EXPECT_GT(occupiedBits, 0u);
   EXPECT_GT(entries, 0u);
-  expectSubCellListsEqual(regions, entryData, cpu);
+  expectSubCellListsEqual(regions, entryData, cpu, gpu.frame().subListCapacity > 0);
   return spanning;
 }
 
@@ -185,6 +193,7 @@ TEST_F(ObjectRegionsTest, ListsEqualBruteForceObbOverlap) {
     objects.addRandom(stack, 300, 30.0 * (1 + seed), seed);
     ObjectSceneSettings settings;
     settings.sizeRule = 0.0f;  // every object in every cascade it overlaps
+    settings.subListMinMeanEntries = 0.0f;  // sub-cell lists however short the region lists
     spanning += expectListsEqual(stack, objects, settings, ctx());
   }
   EXPECT_GT(spanning, 0u) << "the scenes must exercise objects spanning many regions";
@@ -196,6 +205,7 @@ TEST_F(ObjectRegionsTest, SizeRuleDropsSmallObjectsFromCoarseCascadesOnly) {
   objects.addRandom(stack, 200, 60.0, 7);
   ObjectSceneSettings settings;
   settings.sizeRule = 4.0f;  // radius below 4 voxels of cascade c: not listed in c
+  settings.subListMinMeanEntries = 0.0f;
   expectListsEqual(stack, objects, settings, ctx());
   ObjectSceneCpu cpu(objects.library, objects.instances, stack, settings);
   ObjectSceneSettings all = settings;
@@ -218,6 +228,7 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   objects.addRandom(stack, 150, 40.0, 11);
   ObjectSceneSettings settings;
   settings.sizeRule = 0.0f;
+  settings.subListMinMeanEntries = 0.0f;
   ObjectScene gpu(ctx(), settings);
   gpu.update(objects.library, objects.instances, stack);
   const auto lists = gpuLists(gpu);
@@ -537,17 +548,53 @@ TEST(InstanceInStack, EqualsTheGeneralMatrixProductsAndInverse) {
   EXPECT_LT(worstBounds, 1e-6);
 }
 
-TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothing) {
+// No instances: no pass. Short region lists (a mean below subListMinMeanEntries per occupied
+// region): count, rank, scan and fill only, every region walked with its region list, and the
+// lists still those of the CPU reference; long enough: the two sub-cell passes as well.
+TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothingAndShortListsSkipTheSubCellPasses) {
   const CascadeStackImage stack = test::windowsOnlyStack(2);
   test::RandomObjects objects;
   ObjectScene gpu(ctx());
   gpu.update(objects.library, objects.instances, stack);
   EXPECT_FALSE(gpu.active());
   EXPECT_TRUE(gpu.lastTimings().empty());
-  objects.addRandom(stack, 3, 5.0, 1);
+  objects.addRandom(stack, 60, 20.0, 1);
   gpu.update(objects.library, objects.instances, stack);
   EXPECT_TRUE(gpu.active());
-  EXPECT_EQ(gpu.lastTimings().size(), std::size_t(ObjectScene::kRegionPasses));
+  const ObjectFrameData& frame = gpu.frame();
+  ASSERT_GT(frame.occupiedRegions, 0u);
+  const double mean = double(frame.listCapacity) / frame.occupiedRegions;
+  std::printf("[figures] 60 instances: %u occupied regions, about %.2f entries each\n",
+              frame.occupiedRegions, mean);
+  auto passes = [](const ObjectScene& scene) {
+    std::vector<std::string> names;
+    for (const auto& t : scene.lastTimings()) names.push_back(t.name);
+    return names;
+  };
+  const std::vector<std::string> all = {"object_regions_count",   "object_regions_rank",
+                                        "object_regions_scan",    "object_regions_subcount",
+                                        "object_regions_subscan", "object_regions_fill"};
+  ASSERT_EQ(all.size(), std::size_t(ObjectScene::kRegionPasses));
+  for (float threshold : {0.0f, 1e6f}) {
+    ObjectSceneSettings settings;
+    settings.subListMinMeanEntries = threshold;
+    ObjectScene scene(ctx(), settings);
+    scene.update(objects.library, objects.instances, stack);
+    const bool lists = threshold == 0.0f;
+    EXPECT_EQ(scene.frame().subListCapacity > 0, lists);
+    std::vector<std::string> want = all;
+    if (!lists) want = {all[0], all[1], all[2], all[5]};
+    EXPECT_EQ(passes(scene), want);
+    std::size_t without = 0, listed = 0;
+    for (const gs::ObjectRegionGpu& r : scene.downloadRegions()) {
+      if (r.count == 0) continue;
+      ++listed;
+      without += r.subBase == gs::kNoSubLists ? 1 : 0;
+    }
+    EXPECT_GT(listed, 0u);
+    EXPECT_EQ(without, lists ? 0u : listed);
+    expectListsEqual(stack, objects, settings, ctx());
+  }
 }
 
 }  // namespace

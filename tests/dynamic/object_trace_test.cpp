@@ -73,13 +73,15 @@ Agreement compare(std::span<const gs::ObjectTraceHit> a, std::span<const gs::Obj
   return g;
 }
 
-void expectTraversalEqualsBruteForce(gpu::Context& context, std::uint32_t subListEntries) {
+void expectTraversalEqualsBruteForce(gpu::Context& context, std::uint32_t subListEntries,
+                                     float subListMinMeanEntries = 0.0f) {
   const CascadeStackImage stack = test::windowsOnlyStack(3);
   test::RandomObjects objects;
   objects.addRandom(stack, 400, 25.0, 21);
   ObjectSceneSettings settings;
   settings.sizeRule = 0.0f;
   settings.maxSubListEntries = subListEntries;
+  settings.subListMinMeanEntries = subListMinMeanEntries;
   ObjectScene gpu(context, settings);
   gpu.update(objects.library, objects.instances, stack);
   std::size_t withLists = 0, withoutLists = 0;
@@ -91,11 +93,16 @@ void expectTraversalEqualsBruteForce(gpu::Context& context, std::uint32_t subLis
       "[figures] sub-cell list capacity %u: %zu regions walked with sub-cell lists, %zu "
       "without\n",
       subListEntries, withLists, withoutLists);
-  EXPECT_GT(withLists, 0u);
-  if (subListEntries == ObjectSceneSettings{}.maxSubListEntries)
-    EXPECT_EQ(withoutLists, 0u);
-  else
+  if (subListMinMeanEntries > 0.0f) {  // above this scene's mean: no sub-cell lists at all
+    EXPECT_EQ(withLists, 0u);
     EXPECT_GT(withoutLists, 0u);
+  } else if (subListEntries == ObjectSceneSettings{}.maxSubListEntries) {
+    EXPECT_GT(withLists, 0u);
+    EXPECT_EQ(withoutLists, 0u);
+  } else {
+    EXPECT_GT(withLists, 0u);
+    EXPECT_GT(withoutLists, 0u);
+  }
   ObjectSceneCpu cpu(objects.library, objects.instances, stack, settings);
 
   const auto rays = randomRays(4096, glm::vec3(-20.0f), glm::vec3(148.0f), 400.0f, 3);
@@ -132,11 +139,13 @@ void expectTraversalEqualsBruteForce(gpu::Context& context, std::uint32_t subLis
   }
 }
 
-// Also with sub-cell lists too small for the frame: the regions past the capacity are walked
-// with their region lists alone (kNoSubLists), and must still find the nearest hit.
+// Also with sub-cell lists too small for the frame (the regions past the capacity are walked
+// with their region lists alone, kNoSubLists) and with none at all (region lists shorter than
+// subListMinMeanEntries): both must still find the nearest hit.
 TEST_F(ObjectTraceTest, RegionTraversalEqualsBruteForceNearestHit) {
   for (std::uint32_t subListEntries : {ObjectSceneSettings{}.maxSubListEntries, 3000u})
     expectTraversalEqualsBruteForce(ctx(), subListEntries);
+  expectTraversalEqualsBruteForce(ctx(), ObjectSceneSettings{}.maxSubListEntries, 1e6f);
 }
 // Exact ray / oriented-box intersection for the box mesh (half extents h) under a pose; also the
 // cosine between the ray and the face it enters (world space), to tell grazing rays apart.
