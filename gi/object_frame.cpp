@@ -71,6 +71,12 @@ gs::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32_t meshI
 }
 
 namespace {
+// The object-size-to-voxel rule (ObjectSceneSettings::sizeRule): an object of this bounding
+// radius (stack voxels) is listed in region cascade c, so that cascade's probes can see it.
+bool listedIn(const gs::ObjectFrameGpu& f, std::uint32_t c, float radius, float sizeRule) {
+  return c == 0 || radius >= sizeRule * f.regionOrigin[c].w / float(gs::kRegionCells);
+}
+
 // Sub-cells (object_layout.h) of cascade c's region grid that instance g's AABB touches: every
 // region's share of them together, an upper bound of its sub-cell list entries there.
 std::uint64_t subCellVolume(const gs::ObjectFrameGpu& f, std::uint32_t c,
@@ -104,13 +110,16 @@ bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, g
 // The box in which a change can wake a probe, in stack space: the changed box itself and the
 // cube of half-edge r / sqrt(wakeIrradianceChange) around its centre (r: its half-diagonal,
 // which bounds the radius of the object at both ends of the move).
-void wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtChange,
-             glm::vec3& lo, glm::vec3& hi) {
+// Returns the changed box's half-diagonal (stack voxels), which bounds the object's radius.
+float wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtChange,
+              glm::vec3& lo, glm::vec3& hi) {
   const glm::vec3 a = stack.toStack(box.min), b = stack.toStack(box.max);
   const glm::vec3 centre = 0.5f * (a + b);
-  const float reach = 0.5f * glm::length(b - a) * invSqrtChange;
+  const float halfDiagonal = 0.5f * glm::length(b - a);
+  const float reach = halfDiagonal * invSqrtChange;
   lo = glm::min(a, centre - reach);
   hi = glm::max(b, centre + reach);
+  return halfDiagonal;
 }
 
 // A cascade's wake sub-cells as 64 x 64 rows of 64 bits (bit x of row y + 64 z): a box sets a
@@ -150,8 +159,11 @@ std::uint32_t wakeRowsToRegions(const WakeRows& rows, gs::ObjectRegionGpu* regio
 }
 
 // Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
-// touches. Per cascade, the boxes' sub-cell ranges are ORed into rows in parallel chunks of
-// boxes (each thread its own 32 KiB of rows, merged after), then spread into the regions.
+// touches, in the cascades that list an object of the box's size (sizeRule, with the box's
+// half-diagonal for the radius: never smaller than the object's): a coarser cascade's probes
+// never see the object, so its move cannot change their irradiance. Per cascade, the boxes'
+// sub-cell ranges are ORed into rows in parallel chunks of boxes (each thread its own 32 KiB of
+// rows, merged after), then spread into the regions.
 void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
                       ObjectFrameData& out) {
@@ -166,7 +178,8 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
                         glm::vec3 lo, hi;
-                        wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
+                        const float radius =
+                            wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
                         for (std::uint32_t c = 0; c < cascades; ++c) {
                           const glm::vec4 ro = f.regionOrigin[c];
                           const float inv = float(gs::kSubCellsPerAxis) / ro.w;  // exact
@@ -176,7 +189,8 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                           r.lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
                           r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubCells - 1));
                           if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
-                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubCells)))))
+                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubCells)))) ||
+                              !listedIn(f, c, radius, settings.sizeRule))
                             r.hi = glm::ivec3(-1);
                         }
                       }
@@ -245,7 +259,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
           g.info.z = inst.id;
           t.moved += inst.movedThisFrame ? 1u : 0u;
           for (std::uint32_t c = 0; c < cascades; ++c) {
-            if (c > 0 && g.boundsMax.w < settings.sizeRule * f.regionOrigin[c].w / 16.0f) continue;
+            if (!listedIn(f, c, g.boundsMax.w, settings.sizeRule)) continue;
             glm::ivec3 lo, hi;
             if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
               continue;

@@ -27,9 +27,10 @@ struct ObjectSceneSettings {
   // A move wakes the probes whose irradiance it can change by at least this fraction (M21
   // Sec. 5, vigilant probes near dynamic changes). An object of bounding radius r seen from a
   // probe at distance d covers at most (r/d)^2 of its cosine-weighted hemisphere, so only probes
-  // within r / sqrt(wakeIrradianceChange) of the changed box's centre, or inside the box, wake.
-  // The default is the probe field's sleep threshold: a change below it would not keep a probe
-  // awake either. 1 wakes only probes inside the changed boxes; clamped to [1e-4, 1].
+  // within r / sqrt(wakeIrradianceChange) of the changed box's centre, or inside the box, wake,
+  // and only in the cascades whose probes see the object (sizeRule lists it there). The default is
+  // the probe field's sleep threshold: a change below it would not keep a probe awake either. 1
+  // wakes only probes inside the changed boxes; clamped to [1e-4, 1].
   float wakeIrradianceChange = 0.05f;
   // Sub-cell headers (and as many sub-cell entries) a frame may hold, uvec4 each: memory for the
   // lists a ray reads per sub-cell it crosses (object_layout.h). Regions whose lists do not fit

@@ -301,6 +301,7 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
 struct WakeBoxes {
   std::vector<glm::vec3> lo, hi, centre;
   std::vector<float> reach;
+  std::vector<float> halfDiagonal;  // of the changed box: the radius the size rule is applied to
 };
 WakeBoxes wakeBoxes(const CascadeStackImage& stack, const std::vector<WorldBox>& changed,
                     float wakeIrradianceChange) {
@@ -313,22 +314,31 @@ WakeBoxes wakeBoxes(const CascadeStackImage& stack, const std::vector<WorldBox>&
     w.hi.push_back(glm::max(z, centre + reach));
     w.centre.push_back(centre);
     w.reach.push_back(reach);
+    w.halfDiagonal.push_back(0.5f * glm::length(z - a));
   }
   return w;
 }
 
-// The wake bits brute force would set: per box, every sub-cell of every region cascade within a
-// sub-cell of its wake box tested against it (a closed box against the half-open cell). Returns
-// the words that differ from `regions` (wake words and moved flags); counts the bits it sets.
+// Whether region cascade c lists (and so wakes for) a change of this half-diagonal: cascade 0
+// always, coarser ones from sizeRule of their voxels on.
+bool wakesIn(const gs::ObjectFrameGpu& frame, std::uint32_t c, float halfDiagonal, float sizeRule) {
+  return c == 0 || halfDiagonal >= sizeRule * frame.regionOrigin[c].w / 16.0f;
+}
+
+// The wake bits brute force would set: per box, every sub-cell of every region cascade that
+// lists its object, within a sub-cell of its wake box, tested against it (a closed box against
+// the half-open cell). Returns the words that differ from `regions` (wake words and moved
+// flags); counts the bits it sets.
 std::size_t wakeWordsDifferingFromBruteForce(const gs::ObjectFrameGpu& frame, const WakeBoxes& w,
                                              std::span<const gs::ObjectRegionGpu> regions,
-                                             std::size_t& bitsSet) {
+                                             float sizeRule, std::size_t& bitsSet) {
   const std::uint32_t cascades = frame.counts.y;
   std::vector<gs::ObjectRegionGpu> want(std::size_t(cascades) * gs::kRegionsPerCascade);
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const glm::vec4 ro = frame.regionOrigin[c];
     const float sub = ro.w / 8.0f;
     for (std::size_t k = 0; k < w.lo.size(); ++k) {
+      if (!wakesIn(frame, c, w.halfDiagonal[k], sizeRule)) continue;
       const glm::ivec3 a =
           glm::max(glm::ivec3(glm::floor((w.lo[k] - glm::vec3(ro)) / sub)) - 1, glm::ivec3(0));
       const glm::ivec3 z =
@@ -403,11 +413,13 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
 
   const WakeBoxes w = wakeBoxes(stack, changed, settings.wakeIrradianceChange);
   std::size_t set = 0;
-  const std::size_t differ = wakeWordsDifferingFromBruteForce(frame.frame, w, regions, set);
-  // The rule: points within each change's wake distance wake in every cascade that holds them;
-  // points far from every change wake nowhere.
+  const std::size_t differ =
+      wakeWordsDifferingFromBruteForce(frame.frame, w, regions, settings.sizeRule, set);
+  // The rule: points within each change's wake distance wake in every cascade that holds them
+  // and lists an object of its size; points far from every change wake nowhere, nor do points
+  // of a cascade whose probes cannot see the object.
   std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
-  std::size_t inside = 0, missed = 0, far = 0, falseWakes = 0;
+  std::size_t inside = 0, missed = 0, far = 0, falseWakes = 0, unseen = 0, unseenWoken = 0;
   for (std::size_t j = 0; j < w.centre.size(); ++j)
     for (int k = 0; k < 16; ++k) {
       glm::vec3 d(unit(rng), unit(rng), unit(rng));
@@ -418,6 +430,18 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
         if (glm::any(glm::lessThan(q, glm::vec3(0.0f))) ||
             glm::any(glm::greaterThanEqual(q, glm::vec3(8.0f))))
           continue;
+        if (!wakesIn(frame.frame, c, w.halfDiagonal[j], settings.sizeRule)) {
+          // Woken only if another change's wake box, in a cascade listing it, reaches p.
+          bool other = false;
+          for (std::size_t o = 0; o < w.lo.size() && !other; ++o)
+            other = wakesIn(frame.frame, c, w.halfDiagonal[o], settings.sizeRule) &&
+                    glm::all(glm::greaterThan(p, w.lo[o] - 4.0f * ro.w / 8.0f)) &&
+                    glm::all(glm::lessThan(p, w.hi[o] + 4.0f * ro.w / 8.0f));
+          if (other) continue;
+          ++unseen;
+          unseenWoken += cpu.wakes(p, c) ? 1 : 0;
+          continue;
+        }
         ++inside;
         missed += cpu.wakes(p, c) ? 0 : 1;
       }
@@ -435,14 +459,17 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   std::printf(
       "[figures] %zu changes: %zu wake sub-cells set, %zu words differ from brute force; %zu "
       "points "
-      "within wake distance, %zu not woken; %zu points far from every change, %zu woken\n",
-      changed.size(), set, differ, inside, missed, far, falseWakes);
+      "within wake distance, %zu not woken; %zu points far from every change, %zu woken; %zu "
+      "points in cascades not listing the object, %zu woken\n",
+      changed.size(), set, differ, inside, missed, far, falseWakes, unseen, unseenWoken);
   EXPECT_EQ(differ, 0u);
   EXPECT_GT(set, 0u);
   EXPECT_GT(inside, 1000u);
   EXPECT_EQ(missed, 0u);
   EXPECT_GT(far, 100u);
   EXPECT_EQ(falseWakes, 0u);
+  EXPECT_GT(unseen, 20u);
+  EXPECT_EQ(unseenWoken, 0u);
 }
 
 // Thousands of changes of every size (0.05-4 m; a tenth spread over 240 m, far outside cascade
@@ -476,7 +503,8 @@ TEST(ObjectWakeBits, ManyChangesEqualBruteForce) {
       buildObjectFrame(objects.library, objects.instances, stack, settings);
   const WakeBoxes w = wakeBoxes(stack, frame.changedBoxes, settings.wakeIrradianceChange);
   std::size_t bits = 0;
-  const std::size_t differ = wakeWordsDifferingFromBruteForce(frame.frame, w, frame.regions, bits);
+  const std::size_t differ =
+      wakeWordsDifferingFromBruteForce(frame.frame, w, frame.regions, settings.sizeRule, bits);
   std::size_t moved = 0;
   for (const gs::ObjectRegionGpu& r : frame.regions) moved += r.moved;
   std::printf(
