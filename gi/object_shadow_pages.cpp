@@ -8,6 +8,7 @@
 // sweep each box away from the light in segments. Cascades are independent and run in parallel,
 // and so do chunks of boxes within a cascade.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -142,15 +143,23 @@ std::vector<Box> markBoxesAndGatherCasters(const CascadePages& pages, std::span<
     if (cells.empty()) cells.assign(kCellWords, 0);
     for (std::size_t w = 0; w < kCellWords; ++w) cells[w] |= local.cells[w];
   });
-  for (std::size_t w = 0; w < cells.size(); ++w)
-    for (std::uint64_t bits = cells[w]; bits != 0; bits &= bits - 1) {
-      const int bit = int(w * 64) + std::countr_zero(bits);
-      const glm::ivec3 c(bit % kCellsPerAxis, bit / kCellsPerAxis % kCellsPerAxis,
-                         bit / (kCellsPerAxis * kCellsPerAxis));
-      pages.markPage(c / int(kShadowCellsPerPage));
-      const glm::vec3 lo = pages.origin + glm::vec3(c) * cell;
-      out.push_back({lo, lo + glm::vec3(cell)});
-    }
+  if (cells.empty()) return out;
+  // Each set cell becomes a caster box and marks its page: in parallel over runs of words, each
+  // run's boxes appended after in run order (in coarse cascades thousands of cells are set).
+  constexpr std::size_t kWordRuns = 16;
+  std::array<std::vector<Box>, kWordRuns> runs;
+  tbb::parallel_for(std::size_t(0), kWordRuns, [&](std::size_t run) {
+    for (std::size_t w = run * kCellWords / kWordRuns; w < (run + 1) * kCellWords / kWordRuns; ++w)
+      for (std::uint64_t bits = cells[w]; bits != 0; bits &= bits - 1) {
+        const int bit = int(w * 64) + std::countr_zero(bits);
+        const glm::ivec3 c(bit % kCellsPerAxis, bit / kCellsPerAxis % kCellsPerAxis,
+                           bit / (kCellsPerAxis * kCellsPerAxis));
+        pages.markPage(c / int(kShadowCellsPerPage));
+        const glm::vec3 lo = pages.origin + glm::vec3(c) * cell;
+        runs[run].push_back({lo, lo + glm::vec3(cell)});
+      }
+  });
+  for (const std::vector<Box>& run : runs) out.insert(out.end(), run.begin(), run.end());
   return out;
 }
 

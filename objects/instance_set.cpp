@@ -192,11 +192,16 @@ void InstanceSet::changedBounds(const ObjectLibrary& lib, std::vector<WorldBox>&
 }
 
 void InstanceSet::endFrame() {
-  // Only changed instances can have the flag set: O(changes), not O(instances).
-  for (const Change& c : changes_) {
-    changeOf_[c.id] = kAbsent;
-    if (contains(c.id)) instances_[slot_[c.id]].movedThisFrame = false;
-  }
+  // Only changed instances can have the flag set: O(changes), not O(instances). Each change is
+  // of its own id, so the changes are reset in parallel without two tasks writing one entry.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changes_.size(), 2048),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const InstanceId id = changes_[i].id;
+                        changeOf_[id] = kAbsent;
+                        if (contains(id)) instances_[slot_[id]].movedThisFrame = false;
+                      }
+                    });
   changes_.clear();
 }
 
