@@ -14,7 +14,9 @@ struct GiHostTimes {
   double objectsInstancesMs = 0.0;  // ... ... the instances into stack space
   double objectsWakeMs = 0.0;       // ... ... the changed boxes and the probes' wake bits
   double objectsCardsMs = 0.0;      // ... ... the card light blocks and the relight list
-  double shadowPagesMs = 0.0;       // the light-cache pages the objects' moves shadow
+  // The light-cache pages the objects' moves shadow: found on another thread during objectsMs
+  // (its own time, overlapping that one; not to be added to it).
+  double shadowPagesMs = 0.0;
   double lightMs = 0.0;             // dirty pages, lights, the light cache pass
   double probesMs = 0.0;            // the probe passes
   double totalMs = 0.0;             // all of the frame's recording

@@ -203,19 +203,24 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   std::vector<std::uint32_t> shadowed;
   if (instances_) {
     t = Clock::now();
-    objects_.record(batch, staging_, *objectLibrary_, *instances_, image, lightsChanged);
+    // Only where objects moved: the pages their old and new poses shadow, found on a worker
+    // thread while the objects' card slots and passes are recorded (it needs only the frame's
+    // changed boxes), so the two share the cores instead of taking turns.
+    auto findShadowedPages = [&] {
+      const Clock::time_point own = Clock::now();
+      shadowed = objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);
+      stats.host.shadowPagesMs = millisecondsSince(own);
+    };
+    objects_.record(batch, staging_, *objectLibrary_, *instances_, image, lightsChanged,
+                    findShadowedPages);
+    stats.objectPagesRelit = std::uint32_t(shadowed.size());
+    instances_->endFrame();
     stats.objectInstances = std::uint32_t(instances_->size());
     stats.host.objectsMs = millisecondsSince(t);
     stats.host.objectsBuildMs = objects_.lastBuildMilliseconds();
     stats.host.objectsInstancesMs = objects_.frame().instancesMs;
     stats.host.objectsWakeMs = objects_.frame().wakeMs;
     stats.host.objectsCardsMs = objects_.lastCardsMilliseconds();
-    t = Clock::now();
-    // Only where objects moved: the pages their old and new poses shadow.
-    shadowed = objectShadowPages(image, objects_.frame().changedBoxes, gpuLights);
-    stats.objectPagesRelit = std::uint32_t(shadowed.size());
-    instances_->endFrame();
-    stats.host.shadowPagesMs = millisecondsSince(t);
   }
   t = Clock::now();
   const std::vector<std::uint32_t> dirty = relight_.select(image, changed, shadowed, lightsChanged);

@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include "core/stopwatch.h"
@@ -235,7 +236,6 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
 
   // The instances in stack space, in parallel (a 4×4 inverse each), with what the frame sums
   // over them: the list capacity, the cascades listing anything, the box around them all.
-  const auto start = std::chrono::steady_clock::now();
   const std::span<const Instance> all = instances.instances();
   for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
   out.instances.resize(all.size());
@@ -248,49 +248,69 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
     glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
     RegionBits occupied{};
   };
-  const Totals totals = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, all.size(), 256), Totals{},
-      [&](const tbb::blocked_range<std::size_t>& range, Totals t) {
-        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-          const Instance& inst = all[k];
-          gs::ObjectInstanceGpu g =
-              instanceInStack(library.mesh(inst.mesh), inst.mesh, inst.pose.matrix(), stack);
-          g.info.y = inst.movedThisFrame ? gs::kObjectFlagMoved : 0u;
-          g.info.z = inst.id;
-          t.moved += inst.movedThisFrame ? 1u : 0u;
-          for (std::uint32_t c = 0; c < cascades; ++c) {
-            if (!listedIn(f, c, g.boundsMax.w, settings.sizeRule)) continue;
-            glm::ivec3 lo, hi;
-            if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
-              continue;
-            const glm::ivec3 ext = hi - lo + 1;
-            const std::uint64_t regions = std::uint64_t(ext.x) * ext.y * ext.z;
-            t.capacity += regions;
-            t.subCapacity += std::min(subCellVolume(f, c, g), regions * gs::kSubListMaxCells);
-            t.cascadeMask |= 1u << c;
-            for (int z = lo.z; z <= hi.z; ++z)
-              for (int y = lo.y; y <= hi.y; ++y)
-                for (int x = lo.x; x <= hi.x; ++x) {
-                  const std::uint32_t r =
-                      c * gs::kRegionsPerCascade + std::uint32_t(x + 8 * (y + 8 * z));
-                  t.occupied[r / 64] |= std::uint64_t(1) << (r % 64);
-                }
+  auto instancesInStack = [&] {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, all.size(), 256), Totals{},
+        [&](const tbb::blocked_range<std::size_t>& range, Totals t) {
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            const Instance& inst = all[k];
+            gs::ObjectInstanceGpu g =
+                instanceInStack(library.mesh(inst.mesh), inst.mesh, inst.pose.matrix(), stack);
+            g.info.y = inst.movedThisFrame ? gs::kObjectFlagMoved : 0u;
+            g.info.z = inst.id;
+            t.moved += inst.movedThisFrame ? 1u : 0u;
+            for (std::uint32_t c = 0; c < cascades; ++c) {
+              if (!listedIn(f, c, g.boundsMax.w, settings.sizeRule)) continue;
+              glm::ivec3 lo, hi;
+              if (!regionRange(f, c, glm::vec3(g.boundsMin), glm::vec3(g.boundsMax), lo, hi))
+                continue;
+              const glm::ivec3 ext = hi - lo + 1;
+              const std::uint64_t regions = std::uint64_t(ext.x) * ext.y * ext.z;
+              t.capacity += regions;
+              t.subCapacity += std::min(subCellVolume(f, c, g), regions * gs::kSubListMaxCells);
+              t.cascadeMask |= 1u << c;
+              for (int z = lo.z; z <= hi.z; ++z)
+                for (int y = lo.y; y <= hi.y; ++y)
+                  for (int x = lo.x; x <= hi.x; ++x) {
+                    const std::uint32_t r =
+                        c * gs::kRegionsPerCascade + std::uint32_t(x + 8 * (y + 8 * z));
+                    t.occupied[r / 64] |= std::uint64_t(1) << (r % 64);
+                  }
+            }
+            out.instances[k] = g;
+            t.lo = glm::min(t.lo, glm::vec3(g.boundsMin));
+            t.hi = glm::max(t.hi, glm::vec3(g.boundsMax));
           }
-          out.instances[k] = g;
-          t.lo = glm::min(t.lo, glm::vec3(g.boundsMin));
-          t.hi = glm::max(t.hi, glm::vec3(g.boundsMax));
-        }
-        return t;
+          return t;
+        },
+        [](Totals a, const Totals& b) {
+          a.capacity += b.capacity;
+          a.subCapacity += b.subCapacity;
+          a.cascadeMask |= b.cascadeMask;
+          a.moved += b.moved;
+          a.lo = glm::min(a.lo, b.lo);
+          a.hi = glm::max(a.hi, b.hi);
+          for (std::size_t w = 0; w < a.occupied.size(); ++w) a.occupied[w] |= b.occupied[w];
+          return a;
+        });
+  };
+  // Where probes wake: sub-cells near something that moved, appeared or vanished (old and new
+  // poses as one box each), within the distance at which it can still change a probe's
+  // irradiance by wakeIrradianceChange (ObjectSceneSettings). Independent of the instances'
+  // stack-space form (both only read the set; they write different parts of `out`), so the two
+  // run side by side and share the cores.
+  Totals totals;
+  tbb::parallel_invoke(
+      [&] {
+        const auto start = std::chrono::steady_clock::now();
+        totals = instancesInStack();
+        out.instancesMs = millisecondsSince(start);
       },
-      [](Totals a, const Totals& b) {
-        a.capacity += b.capacity;
-        a.subCapacity += b.subCapacity;
-        a.cascadeMask |= b.cascadeMask;
-        a.moved += b.moved;
-        a.lo = glm::min(a.lo, b.lo);
-        a.hi = glm::max(a.hi, b.hi);
-        for (std::size_t w = 0; w < a.occupied.size(); ++w) a.occupied[w] |= b.occupied[w];
-        return a;
+      [&] {
+        const auto start = std::chrono::steady_clock::now();
+        instances.changedBounds(library, out.changedBoxes);
+        markWakeSubCells(f, cascades, stack, settings, out);
+        out.wakeMs = millisecondsSince(start);
       });
   out.cascadeMask = totals.cascadeMask;
   out.occupiedRegions = 0;
@@ -298,15 +318,6 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   out.movedInstances = totals.moved;
   f.boundsMin = glm::vec4(totals.lo, 0.0f);
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
-  const auto instancesDone = std::chrono::steady_clock::now();
-  out.instancesMs = millisecondsSince(start);
-
-  // Where probes wake: sub-cells near something that moved, appeared or vanished (old and new
-  // poses as one box each), within the distance at which it can still change a probe's
-  // irradiance by wakeIrradianceChange (ObjectSceneSettings).
-  instances.changedBounds(library, out.changedBoxes);
-  markWakeSubCells(f, cascades, stack, settings, out);
-  out.wakeMs = millisecondsSince(instancesDone);
   // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
   out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   const bool longLists = double(totals.capacity) >=

@@ -105,7 +105,8 @@ struct ObjectFrameData {
     bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
   };
   std::vector<SubCellRange> wakeRanges;
-  // CPU time of the build's parts (milliseconds; the frame's host-time breakdown).
+  // CPU time of the build's parts (milliseconds; the frame's host-time breakdown). The two run
+  // side by side: each is its own wall time, and the build takes about the longer, not the sum.
   double instancesMs = 0.0;  // the instances into stack space and what the frame sums over them
   double wakeMs = 0.0;       // changedBoxes and the wake bits
 };

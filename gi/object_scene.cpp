@@ -6,6 +6,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <tbb/task_group.h>
+
 #include "core/stopwatch.h"
 
 #include "shaders/shared/sdf_layout.h"
@@ -189,13 +191,43 @@ void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instan
   timings_ = batch.timings();
 }
 
+namespace {
+// Runs `work` on a worker thread until destroyed: the destructor waits, so an exception on the
+// calling thread cannot leave the task running; wait() rethrows what the work threw.
+class Alongside {
+ public:
+  explicit Alongside(const std::function<void()>& work) {
+    if (work) group_.run(work);
+  }
+  ~Alongside() {
+    try {
+      group_.wait();
+    } catch (...) {  // already unwinding, or wait() reported it
+    }
+  }
+  void wait() { group_.wait(); }
+
+ private:
+  tbb::task_group group_;
+};
+}  // namespace
+
 void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
                          const ObjectLibrary& library, const InstanceSet& instances,
-                         const CascadeStackImage& stack, bool lightsChanged) {
+                         const CascadeStackImage& stack, bool lightsChanged,
+                         const std::function<void()>& alongside) {
   if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
   if (!cardsUploaded_) uploadCards(batch, staging);
   const auto buildStart = std::chrono::steady_clock::now();
   buildObjectFrame(library, instances, stack, settings_, frame_);
+  Alongside other(alongside);
+  recordBuilt(batch, staging, lightsChanged, stack, buildStart);
+  other.wait();
+}
+
+void ObjectScene::recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& staging,
+                              bool lightsChanged, const CascadeStackImage& stack,
+                              std::chrono::steady_clock::time_point buildStart) {
   // The viewer for the cards' eviction order and light levels: cascade 0's centre (the stack is
   // camera-centred). Instances beyond cascade 0's half extent are seen by cascade 1's probes and
   // coarser (2 voxels and more), so their light is kept at level 1, beyond twice that at level 2.

@@ -10,7 +10,9 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -60,9 +62,13 @@ class ObjectScene {
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
   // passes are named "object_regions_*" in the batch's timings. lastTimings() is not updated.
   // lightsChanged: every instance's card light is stale (relit first, within the budget).
+  // alongside: host work that needs this frame's data (frame(), e.g. its changed boxes) and not
+  // the rest of the recording; it runs on a worker thread once the frame is built, while the card
+  // slots and the commands are recorded, and record returns after it has finished (rethrowing
+  // what it threw). GiSystem finds the light-cache pages the moves shadow that way.
   void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const ObjectLibrary& library,
               const InstanceSet& instances, const CascadeStackImage& stack,
-              bool lightsChanged = false);
+              bool lightsChanged = false, const std::function<void()>& alongside = {});
 
   // Something to bind this frame: instances, or regions where an instance was just removed (the
   // probes there must still wake up). False: passes bind NoObjectsBindings instead.
@@ -131,6 +137,10 @@ class ObjectScene {
                    const ObjectLibrary& library);
   void uploadCards(gpu::CommandBatch& batch, gpu::StagingRing& staging);
   std::size_t listEntries() const;  // OBJ_LIST's uvec4s this frame
+  // record() once frame_ is built: the card slots, the uploads and the region passes.
+  void recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged,
+                   const CascadeStackImage& stack,
+                   std::chrono::steady_clock::time_point buildStart);
   void recordCardLight(gpu::CommandBatch& batch, gpu::StagingRing& staging, bool lightsChanged,
                        glm::vec3 viewer, float levelBeyond);
 
