@@ -220,7 +220,7 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
 
 void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
-                      ObjectFrameData& out) {
+                      ObjectFrameData& out, const std::function<void()>& changedBoxesReady) {
   const std::uint32_t cascades = std::min<std::uint32_t>(
       {settings.regionCascades, gs::kMaxRegionCascades, std::uint32_t(stack.params.size())});
   out.frame = gs::ObjectFrameGpu{};
@@ -309,6 +309,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
       [&] {
         const auto start = std::chrono::steady_clock::now();
         instances.changedBounds(library, out.changedBoxes);
+        if (changedBoxesReady) changedBoxesReady();
         markWakeSubCells(f, cascades, stack, settings, out);
         out.wakeMs = millisecondsSince(start);
       });

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -117,10 +118,12 @@ gpu_shared::ObjectInstanceGpu instanceInStack(const ObjectSdf& mesh, std::uint32
                                               const CascadeStackImage& stack);
 
 // Host work is parallel over instances and changed boxes (TBB). The out-parameter form reuses
-// `out`'s buffers from frame to frame.
+// `out`'s buffers from frame to frame. changedBoxesReady, when set, is called (on some thread)
+// as soon as out.changedBoxes holds this frame's boxes, while the rest is still being built:
+// work that needs only those boxes can start then; out.changedBoxes does not change after it.
 void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
                       const CascadeStackImage& stack, const ObjectSceneSettings& settings,
-                      ObjectFrameData& out);
+                      ObjectFrameData& out, const std::function<void()>& changedBoxesReady = {});
 ObjectFrameData buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances,
                                  const CascadeStackImage& stack,
                                  const ObjectSceneSettings& settings);

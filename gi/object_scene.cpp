@@ -192,11 +192,11 @@ void ObjectScene::update(const ObjectLibrary& library, const InstanceSet& instan
 }
 
 namespace {
-// Runs `work` on a worker thread until destroyed: the destructor waits, so an exception on the
+// Runs work on a worker thread from start() on; the destructor waits, so an exception on the
 // calling thread cannot leave the task running; wait() rethrows what the work threw.
 class Alongside {
  public:
-  explicit Alongside(const std::function<void()>& work) {
+  void start(const std::function<void()>& work) {
     if (work) group_.run(work);
   }
   ~Alongside() {
@@ -219,8 +219,10 @@ void ObjectScene::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   if (library.version() != atlasVersion_) recordAtlas(batch, staging, library);
   if (!cardsUploaded_) uploadCards(batch, staging);
   const auto buildStart = std::chrono::steady_clock::now();
-  buildObjectFrame(library, instances, stack, settings_, frame_);
-  Alongside other(alongside);
+  // The work alongside starts as soon as the changed boxes are known, while the instances and
+  // the wake bits are still being built.
+  Alongside other;
+  buildObjectFrame(library, instances, stack, settings_, frame_, [&] { other.start(alongside); });
   recordBuilt(batch, staging, lightsChanged, stack, buildStart);
   other.wait();
 }

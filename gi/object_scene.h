@@ -62,10 +62,11 @@ class ObjectScene {
   // The same recorded into `batch` (uploads through `staging`'s current frame), no wait; its
   // passes are named "object_regions_*" in the batch's timings. lastTimings() is not updated.
   // lightsChanged: every instance's card light is stale (relit first, within the budget).
-  // alongside: host work that needs this frame's data (frame(), e.g. its changed boxes) and not
-  // the rest of the recording; it runs on a worker thread once the frame is built, while the card
-  // slots and the commands are recorded, and record returns after it has finished (rethrowing
-  // what it threw). GiSystem finds the light-cache pages the moves shadow that way.
+  // alongside: host work that needs only this frame's changed boxes (frame().changedBoxes) and
+  // nothing else of the frame; it runs on a worker thread from the moment they are known, while
+  // the rest of the frame is built and the card slots and commands are recorded, and record
+  // returns after it has finished (rethrowing what it threw). GiSystem finds the light-cache
+  // pages the moves shadow that way.
   void record(gpu::CommandBatch& batch, gpu::StagingRing& staging, const ObjectLibrary& library,
               const InstanceSet& instances, const CascadeStackImage& stack,
               bool lightsChanged = false, const std::function<void()>& alongside = {});
