@@ -31,14 +31,6 @@ Sum parallelSum(std::size_t n, Body body) {
       [](Sum a, Sum b) { return a + b; });
 }
 
-template <typename Body>
-void parallelEach(std::size_t n, Body body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kInstancesPerTask),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) body(i);
-                    });
-}
-
 // The level for an instance `distance` from the viewer, keeping `current` (-1: none) while the
 // distance stays within its band widened by an eighth of `beyond` on both sides.
 std::uint32_t levelAt(float distance, float beyond, int current) {
