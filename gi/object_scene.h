@@ -1,7 +1,7 @@
-// Moving objects on the GPU (issue 7 items 1-5): the object-SDF atlas (uploaded when the library
-// changes), this frame's instances in stack space, and the macro-region object lists and their
-// sub-cell lists rebuilt by object_regions.comp and object_regions_scan.comp (count -> rank ->
-// scan -> sub-cell count -> sub-cell scan -> fill) every frame from the instances. Passes that
+// Moving objects on the GPU: the object-SDF atlas (uploaded when the library changes), this
+// frame's instances in stack space, and the macro-region object lists and their sub-cell lists
+// rebuilt by object_regions.comp and object_regions_scan.comp (count -> rank -> scan -> sub-cell
+// count -> sub-cell scan -> fill) every frame from the instances. Passes that
 // trace objects bind buffers() at their OBJ_BINDING_BASE (shaders/object_bindings.glsl). With no
 // instance at all nothing is dispatched (active() is false), so static-only frames cost exactly
 // what they cost before objects existed. Cards (cards/): each mesh's card atlas, captured by

@@ -27,6 +27,13 @@ ComputePipeline::ComputePipeline(Context& ctx, ShaderId shader, const PipelineDe
                       who + "more storage buffers than push descriptors allow");
   SDFSTREAM_GPU_CHECK(desc.workgroupSize.x * desc.workgroupSize.y * desc.workgroupSize.z > 0,
                       who + "empty workgroup");
+  const VkPhysicalDeviceLimits& limits = ctx.properties().limits;
+  SDFSTREAM_GPU_CHECK(desc.workgroupSize.x <= limits.maxComputeWorkGroupSize[0] &&
+                          desc.workgroupSize.y <= limits.maxComputeWorkGroupSize[1] &&
+                          desc.workgroupSize.z <= limits.maxComputeWorkGroupSize[2] &&
+                          desc.workgroupSize.x * desc.workgroupSize.y * desc.workgroupSize.z <=
+                              limits.maxComputeWorkGroupInvocations,
+                      who + "workgroup larger than the device allows");
 
   VkDevice device = ctx.device();
   VkShaderModule module = VK_NULL_HANDLE;

@@ -74,16 +74,20 @@ void scanSubCells() {
 }
 
 // Phase 1, one thread per region: the occupancy words' ranks, the box of the occupied
-// sub-cells, and their count (left in subBase for the scan).
+// sub-cells, and their count (left in subBase for the scan). Spread over the GPU: the scan's
+// single workgroup would issue these scattered accesses from one SM.
 void rankRegion() {
   uint r = gl_GlobalInvocationID.x;
   if (r >= pc.cascades * kRegionsPerCascade) return;
   uint occupancy[kOccupancyWords] = objRegions[r].occupancy;
-  for (uint w = 0u; w < kOccupancyWords; w += 2u)
-    objRegions[r].rank[w / 2u] =
-        objOccupiedBefore(occupancy, w) | (objOccupiedBefore(occupancy, w + 1u) << 16u);
+  uint before = 0u;
+  for (uint w = 0u; w < kOccupancyWords; w += 2u) {
+    uint first = uint(bitCount(occupancy[w]));
+    objRegions[r].rank[w / 2u] = before | ((before + first) << 16u);
+    before += first + uint(bitCount(occupancy[w + 1u]));
+  }
   objRegions[r].occupiedBounds = objOccupiedBounds(occupancy);
-  objRegions[r].subBase = objOccupiedBefore(occupancy, kOccupancyWords);
+  objRegions[r].subBase = before;
 }
 
 void main() {

@@ -242,35 +242,31 @@ uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
 uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
 
 // ObjectRegionGpu::occupiedBounds of a region's occupancy words (row (y, z) of x bits in word
-// y / 4 + 2z at bit 8 (y % 4)); 0 when no bit is set.
+// y / 4 + 2z at bit 8 (y % 4)); 0 when no bit is set. Branch-free masks of the occupied x, y and
+// z: a few dozen operations a region.
 uint objOccupiedBounds(uint occupancy[kOccupancyWords]) {
   uint xs = 0u;
-  int yLo = 8;
-  int yHi = -1;
-  int zLo = 8;
-  int zHi = -1;
-  for (int w = 0; w < int(kOccupancyWords); ++w) {
+  uint ys = 0u;
+  uint zs = 0u;
+  for (uint w = 0u; w < kOccupancyWords; ++w) {
     uint word = occupancy[w];
-    if (word == 0u) continue;
-    zLo = min(zLo, w / 2);
-    zHi = max(zHi, w / 2);
-    for (int b = 0; b < 4; ++b) {
-      uint row = (word >> uint(8 * b)) & 0xffu;
-      if (row == 0u) continue;
-      xs |= row;
-      yLo = min(yLo, 4 * (w % 2) + b);
-      yHi = max(yHi, 4 * (w % 2) + b);
-    }
+    xs |= word;
+    // Bit 7 of each byte (a row of x at one y) set where the byte is nonzero, no carry across.
+    uint rows = (((word & 0x7f7f7f7fu) + 0x7f7f7f7fu) | word) & 0x80808080u;
+    uint four = ((rows >> 7u) & 1u) | ((rows >> 14u) & 2u) | ((rows >> 21u) & 4u) |
+                ((rows >> 28u) & 8u);
+    ys |= four << (4u * (w & 1u));
+    zs |= (word != 0u ? 1u : 0u) << (w >> 1u);
   }
+  xs = (xs | (xs >> 8u) | (xs >> 16u) | (xs >> 24u)) & 0xffu;
   if (xs == 0u) return 0u;
-  uint xLo = uint(findLSB(xs));
-  uint xHi = uint(findMSB(xs));
-  return xLo | (uint(yLo) << 3u) | (uint(zLo) << 6u) | (xHi << 9u) | (uint(yHi) << 12u) |
-         (uint(zHi) << 15u);
+  return uint(findLSB(xs)) | (uint(findLSB(ys)) << 3u) | (uint(findLSB(zs)) << 6u) |
+         (uint(findMSB(xs)) << 9u) | (uint(findMSB(ys)) << 12u) | (uint(findMSB(zs)) << 15u);
 }
 
 // Occupied sub-cells in occupancy words 0 .. word - 1 (word 16: the region's whole count): what
-// ObjectRegionGpu::rank stores per word, written by the rank pass and its C++ reference.
+// ObjectRegionGpu::rank stores per word (written by the rank pass, which counts them word by word,
+// and by the C++ reference).
 uint objOccupiedBefore(uint occupancy[kOccupancyWords], uint word) {
   uint n = 0u;
   for (uint w = 0u; w < word; ++w) n += uint(bitCount(occupancy[w]));

@@ -66,7 +66,12 @@ SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) t
 // y entries, z fill cursor, w 0; the entries are objListEntry records of the region.
 SDF_CONST uint kSubListMaxCells = 64;
 SDF_CONST uint kNoSubLists = 0xffffffffu;  // subBase when the lists did not fit: walk the region
-SDF_CONST uint kRegionScanThreads = 256;   // object_regions_scan.comp's one workgroup
+// object_regions_scan.comp's one workgroup: 4 regions a thread at kMaxRegionCascades (every
+// desktop driver and lavapipe allow 1,024 invocations; ComputePipeline checks the limit).
+SDF_CONST uint kRegionScanThreads = 512;
+// ObjectRegionGpu in 16-byte words: the scan reads and writes a region's first 32 bytes (count ..
+// wideCursor) as two of them.
+SDF_CONST uint kRegionVec4s = 13;
 
 // Per region and cascade (OBJ_REGION(c * 512 + r)).
 struct ObjectRegionGpu {
@@ -146,9 +151,16 @@ struct ObjectTracePush {
 SDF_END_NAMESPACE
 
 #ifdef __cplusplus
+#include <cstddef>
 static_assert(sizeof(sdfstream::gpu_shared::ObjectMeshGpu) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectInstanceGpu) == 144);
-static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) == 208);
+static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionGpu) ==
+              16 * sdfstream::gpu_shared::kRegionVec4s);
+// object_regions_scan.comp reads and writes these two 16-byte words by position.
+static_assert(offsetof(sdfstream::gpu_shared::ObjectRegionGpu, subBase) == 12 &&
+              offsetof(sdfstream::gpu_shared::ObjectRegionGpu, occupiedBounds) == 16 &&
+              offsetof(sdfstream::gpu_shared::ObjectRegionGpu, subStart) == 20 &&
+              offsetof(sdfstream::gpu_shared::ObjectRegionGpu, wideCursor) == 28);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectFrameGpu) == 128);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectRegionPush) == 32);
 static_assert(sizeof(sdfstream::gpu_shared::ObjectTraceHit) == 48);
