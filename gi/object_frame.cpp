@@ -247,6 +247,9 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
     std::uint32_t cascadeMask = 0, moved = 0;
     glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
     RegionBits occupied{};
+    // Per region, the instances whose AABB range touches it: its list's slots when the frame
+    // has no sub-cell lists (object_layout.h, ObjectRegionGpu::slots).
+    std::array<std::uint32_t, gs::kMaxRegionCascades * gs::kRegionsPerCascade> ranges{};
   };
   auto instancesInStack = [&] {
     return tbb::parallel_reduce(
@@ -275,6 +278,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
                     const std::uint32_t r =
                         c * gs::kRegionsPerCascade + std::uint32_t(x + 8 * (y + 8 * z));
                     t.occupied[r / 64] |= std::uint64_t(1) << (r % 64);
+                    ++t.ranges[r];
                   }
             }
             out.instances[k] = g;
@@ -291,6 +295,7 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
           a.lo = glm::min(a.lo, b.lo);
           a.hi = glm::max(a.hi, b.hi);
           for (std::size_t w = 0; w < a.occupied.size(); ++w) a.occupied[w] |= b.occupied[w];
+          for (std::size_t r = 0; r < a.ranges.size(); ++r) a.ranges[r] += b.ranges[r];
           return a;
         });
   };
@@ -327,6 +332,20 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
       longLists ? std::uint32_t(std::min<std::uint64_t>(
                       totals.subCapacity + totals.subCapacity / 8 + 64, settings.maxSubListEntries))
                 : 0u;
+  if (out.subListCapacity == 0) {
+    // No sub-cell lists: each region's slots and start from its AABB ranges, so the GPU fills
+    // the lists and the occupancy in one pass (no count, rank or scan; object_regions.comp,
+    // phase 6).
+    std::uint32_t start = 0;
+    for (std::size_t r = 0; r < out.regions.size(); ++r) {
+      gs::ObjectRegionGpu& region = out.regions[r];
+      region.start = start;
+      region.slots = totals.ranges[r];
+      region.subBase = gs::kNoSubLists;
+      start += totals.ranges[r];
+    }
+    out.listCapacity = std::max(start, 1u);
+  }
   f.counts.z = out.listCapacity;
 }
 

@@ -84,9 +84,11 @@ ObjectAtlasData buildObjectAtlas(const ObjectLibrary& library);
 struct ObjectFrameData {
   gpu_shared::ObjectFrameGpu frame{};
   std::vector<gpu_shared::ObjectInstanceGpu> instances;  // dense, InstanceSet order
-  std::vector<gpu_shared::ObjectRegionGpu> regions;      // count/start/cursor/occupancy 0;
-                                                         // wake and moved from changedBoxes
+  // count/cursor/occupancy 0; wake and moved from changedBoxes; without sub-cell lists also
+  // start, slots and subBase (kNoSubLists), from the AABB ranges.
+  std::vector<gpu_shared::ObjectRegionGpu> regions;
   std::uint32_t listCapacity = 0;  // Σ instances' AABB region ranges: lists can never overflow
+                                   // (with slack when the GPU's scan places them)
   // Sub-cell headers, and as many sub-cell entries: Σ instances' AABB sub-cell volumes (at most
   // kSubListMaxCells a region), at most ObjectSceneSettings::maxSubListEntries; regions whose
   // sub-cell lists do not fit are walked without them (object_layout.h, kNoSubLists). 0: no

@@ -273,6 +273,11 @@ void ObjectScene::recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& stagin
   gs::ObjectRegionPush push{0u, n,  cascades, frame_.listCapacity, frame_.subListCapacity,
                             0u, 0u, 0u};
   const glm::uvec3 perInstance(64u * n, cascades, 1u);
+  if (!subLists) {  // the host placed the lists (ObjectRegionGpu::slots): one pass fills them
+    push.phase = 6u;
+    batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push, perInstance);
+    return;
+  }
   batch.dispatch("object_regions_count", regionsPipeline_, bufs, &push, sizeof push, perInstance);
   push.phase = 1u;
   const std::uint32_t regions = cascades * gs::kRegionsPerCascade;
@@ -281,14 +286,12 @@ void ObjectScene::recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& stagin
   push.phase = 2u;
   batch.dispatch("object_regions_scan", scanPipeline_, bufs, &push, sizeof push,
                  glm::uvec3(gs::kRegionScanThreads, 1u, 1u));
-  if (subLists) {  // else every region is kNoSubLists and these would find nothing to do
-    push.phase = 3u;
-    batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
-                   perInstance);
-    push.phase = 4u;
-    batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
-                   glm::uvec3(64u * regions, 1u, 1u));
-  }
+  push.phase = 3u;
+  batch.dispatch("object_regions_subcount", regionsPipeline_, bufs, &push, sizeof push,
+                 perInstance);
+  push.phase = 4u;
+  batch.dispatch("object_regions_subscan", regionsPipeline_, bufs, &push, sizeof push,
+                 glm::uvec3(64u * regions, 1u, 1u));
   push.phase = 5u;
   batch.dispatch("object_regions_fill", regionsPipeline_, bufs, &push, sizeof push, perInstance);
 }

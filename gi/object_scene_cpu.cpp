@@ -146,6 +146,9 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
       frame_(buildObjectFrame(library, instances, stack, settings)) {
   const std::uint32_t cascades = frame_.frame.counts.y;
   const std::size_t regionCount = std::size_t(cascades) * gs::kRegionsPerCascade;
+  // Lists the host placed (no sub-cell lists this frame): as on the GPU, no instance is wide and
+  // every one marks its sub-cells.
+  const bool hostPlaced = frame_.subListCapacity == 0;
   lists_.assign(regionCount, {});
   regions_.assign(regionCount, gs::ObjectRegionGpu{});
   ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
@@ -175,7 +178,7 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
         if (!p.objObbOverlapsBox(inst, glm::uvec3(d), lo, hi)) continue;
         const auto sub =
             p.objSubCellRange(glm::vec3(inst.boundsMin), glm::vec3(inst.boundsMax), lo, ro.w);
-        if (p.objSubCellCount(sub) > gs::kSubListMaxCells) {
+        if (!hostPlaced && p.objSubCellCount(sub) > gs::kSubListMaxCells) {
           wide.push_back(i);
           continue;
         }

@@ -21,6 +21,11 @@
 //   4 sub-scan:  workgroup per region: its headers' counts into entry starts;
 //   5 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
 //                to its region's list (wide ones first) and to its sub-cells' lists.
+// A frame without sub-cell lists (short region lists, ObjectSceneSettings::subListMinMeanEntries)
+// runs phase 6 alone: the host has sized each region's slots from the same AABB ranges and
+// written its start, so an instance appends its entry with one atomic on the region's count and
+// ORs its sub-cells into the occupancy and their masks into occupiedBounds. No entry comes first
+// (wide stays 0): the walk tests them all from the first occupied sub-cell a ray crosses.
 // Cost: instances × regions of their AABBs × (1 + sub-cells touched), plus the two scans.
 #extension GL_GOOGLE_include_directive : require
 
@@ -136,6 +141,24 @@ void main() {
       continue;
     }
     uvec4 entry = objListEntry(i, bmin, bmax, lo, ro.w);
+    if (pc.phase == 6u) {
+      uint at = atomicAdd(objRegions[region].count, 1u);
+      if (at < objRegions[region].slots) {
+        objList[objRegions[region].start + at] = entry;
+      } else {  // past the host's slots (its ranges are the same math): dropped, not counted
+        atomicAdd(objRegions[region].count, 0xffffffffu);
+        continue;
+      }
+      // Every instance's sub-cells, wide ones too (no entry comes first in these lists), and
+      // their masks for the walk's box of occupied sub-cells.
+      atomicOr(objRegions[region].occupiedBounds, objSubRangeMasks(sr));
+      uint row = objRowMask(sr.lo.x, sr.hi.x);
+      for (int z = sr.lo.z; z <= sr.hi.z; ++z)
+        for (int y = sr.lo.y; y <= sr.hi.y; ++y)
+          atomicOr(objRegions[region].occupancy[objOccupancyWord(y, z)],
+                   row << objOccupancyShift(y));
+      continue;
+    }
     if (pc.phase == 5u) {
       uint wideCount = objRegions[region].wide;
       uint at = wide ? atomicAdd(objRegions[region].wideCursor, 1u)

@@ -242,8 +242,8 @@ uint objOccupancyWord(int y, int z) { return uint(y / 4 + 2 * z); }
 uint objOccupancyShift(int y) { return 8u * uint(y % 4); }
 
 // ObjectRegionGpu::occupiedBounds of a region's occupancy words (row (y, z) of x bits in word
-// y / 4 + 2z at bit 8 (y % 4)); 0 when no bit is set. Branch-free masks of the occupied x, y and
-// z: a few dozen operations a region.
+// y / 4 + 2z at bit 8 (y % 4)): the occupied x, y and z as 8-bit masks; 0 when no bit is set.
+// Masks, not a packed box, so the fill into host-placed lists can OR them in atomically.
 uint objOccupiedBounds(uint occupancy[kOccupancyWords]) {
   uint xs = 0u;
   uint ys = 0u;
@@ -259,9 +259,13 @@ uint objOccupiedBounds(uint occupancy[kOccupancyWords]) {
     zs |= (word != 0u ? 1u : 0u) << (w >> 1u);
   }
   xs = (xs | (xs >> 8u) | (xs >> 16u) | (xs >> 24u)) & 0xffu;
-  if (xs == 0u) return 0u;
-  return uint(findLSB(xs)) | (uint(findLSB(ys)) << 3u) | (uint(findLSB(zs)) << 6u) |
-         (uint(findMSB(xs)) << 9u) | (uint(findMSB(ys)) << 12u) | (uint(findMSB(zs)) << 15u);
+  return xs | (ys << 8u) | (zs << 16u);
+}
+
+// The occupiedBounds masks of sub-cell range r (objSubCellRange).
+uint objSubRangeMasks(ObjSubRange r) {
+  return objRowMask(r.lo.x, r.hi.x) | (objRowMask(r.lo.y, r.hi.y) << 8u) |
+         (objRowMask(r.lo.z, r.hi.z) << 16u);
 }
 
 // Occupied sub-cells in occupancy words 0 .. word - 1 (word 16: the region's whole count): what
@@ -357,7 +361,8 @@ ObjectHit objTestEntry(ObjectHit best, uvec4 entry, vec3 o, vec3 d, vec3 inv, fl
 // the list of each occupied sub-cell the ray crosses, over the ray's part inside it. Every
 // surface point lies in the sub-cell that holds it, inside its instance's AABB, which that
 // sub-cell lists: the walk returns at the first sub-cell that holds a hit. Without sub-cell
-// lists (kNoSubLists) the first occupied sub-cell's run is every entry after the wide ones,
+// lists (kNoSubLists) the first occupied sub-cell's run is every entry after the wide ones (all
+// of them in host-placed lists, which put no entry first and mark every instance's sub-cells),
 // over the rest of the stretch. One call site of objTestEntry (and so of the inlined sphere
 // tracer) keeps the pass's code and registers small.
 // anyHit: stop at the first hit found (shadow rays); the nearest one otherwise. Unshaded either
@@ -408,8 +413,9 @@ ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasca
       // the sub-cell holding its start.
       float sub = ro.w / float(kSubCellsPerAxis);
       uint ob = OBJ_REGION(region).occupiedBounds;
-      ivec3 bLo = ivec3(int(ob & 7u), int((ob >> 3u) & 7u), int((ob >> 6u) & 7u));
-      ivec3 bHi = ivec3(int((ob >> 9u) & 7u), int((ob >> 12u) & 7u), int((ob >> 15u) & 7u));
+      uvec3 masks = uvec3(ob & 0xffu, (ob >> 8u) & 0xffu, (ob >> 16u) & 0xffu);
+      ivec3 bLo = max(findLSB(masks), ivec3(0));  // no bit (only wide entries): never walked
+      ivec3 bHi = max(findMSB(masks), ivec3(0));
       vec2 inBox = objBoxClip(o, inv, rLo + vec3(bLo) * sub, rLo + vec3(bHi + ivec3(1)) * sub);
       float cellT = max(t, inBox.x);
       float walkEnd = min(segEnd, inBox.y);

@@ -81,9 +81,9 @@ struct ObjectRegionGpu {
   uint wide;     // listed instances touching more than kSubListMaxCells sub-cells
   uint subBase;  // OBJ_LIST index of the first sub-cell header, or kNoSubLists (the rank pass
                  // leaves the region's occupied sub-cells here for the scan)
-  // The box of the occupied sub-cells (written by the rank pass; 0 when none): 3 bits each, lo
-  // x, y, z at bits 0, 3, 6 and hi x, y, z at 9, 12, 15, inclusive. A ray walks the sub-cells
-  // only where it crosses it.
+  // The box of the occupied sub-cells as masks of the occupied x, y and z (bits 0-7, 8-15,
+  // 16-23; written by the rank pass or ORed in by the fill into host-placed lists; 0 when none).
+  // A ray walks the sub-cells only where it crosses the box.
   uint occupiedBounds;
   uint subStart;    // count pass: sub-cell entries; after the scan: the first one's OBJ_LIST index
   uint cursor;      // fill pass scratch (entries after the wide ones)
@@ -96,7 +96,10 @@ struct ObjectRegionGpu {
   // Occupied sub-cells before occupancy word w: bits 16 (w % 2) .. +15 of rank[w / 2].
   uint rank[kOccupancyWords / 2];
   uint moved;  // nonzero: some wake bit above is set
-  uint pad0;   // records of 16-byte multiples
+  // Without sub-cell lists, the list slots the host sized for the region (its instances' AABB
+  // ranges; `start` is host-written too): no count, rank or scan pass runs, the fill appends
+  // below it, `wide` and `rank` stay 0. 0 when the passes size the lists.
+  uint slots;
   uint pad1;
   uint pad2;
 };
@@ -118,7 +121,8 @@ struct ObjectFrameGpu {
 // region lists' `capacity` entries, then `subCapacity` sub-cell headers, then `subCapacity`
 // sub-cell entries.
 struct ObjectRegionPush {
-  uint phase;  // 0 count, 1 rank, 2 scan, 3 sub-cell count, 4 sub-cell scan, 5 fill
+  uint phase;  // 0 count, 1 rank, 2 scan, 3 sub-cell count, 4 sub-cell scan, 5 fill,
+               // 6 fill into the host's slots (no sub-cell lists: the only pass)
   uint instances;
   uint cascades;
   uint capacity;

@@ -49,16 +49,18 @@ void expectSubCellListsEqual(const std::vector<gs::ObjectRegionGpu>& regions,
     const gs::ObjectRegionGpu& g = regions[r];
     const gs::ObjectRegionGpu& want = cpu.regions()[r];
     wideDiffer += g.wide != want.wide ? 1 : 0;
-    glm::uvec3 lo(7), hi(0);
-    for (std::uint32_t bit = 0; bit < 512; ++bit) {
-      if ((want.occupancy[bit / 32] >> (bit % 32) & 1u) == 0) continue;
-      const glm::uvec3 cell(bit % 8, bit / 8 % 8, bit / 64);
-      lo = glm::min(lo, cell);
-      hi = glm::max(hi, cell);
-    }
-    const std::uint32_t box =
-        lo.x > hi.x ? 0u : lo.x | lo.y << 3 | lo.z << 6 | hi.x << 9 | hi.y << 12 | hi.z << 15;
+    // Host-placed lists put no entry first.
+    wideDiffer += !built && g.wide != 0 ? 1 : 0;
+    std::uint32_t box = 0;  // the occupied x, y and z as masks
+    for (std::uint32_t bit = 0; bit < 512; ++bit)
+      if (want.occupancy[bit / 32] >> (bit % 32) & 1u)
+        box |= 1u << (bit % 8) | 1u << (8 + bit / 8 % 8) | 1u << (16 + bit / 64);
     boundsDiffer += g.occupiedBounds != box || want.occupiedBounds != box ? 1 : 0;
+    if (!built) {  // host-placed lists: no ranks on the GPU (no sub-cell lists to find)
+      withoutLists += g.count > 0 ? 1 : 0;
+      wideDiffer += g.subBase != gs::kNoSubLists ? 1 : 0;
+      continue;
+    }
     wideEntries += g.wide;
     // Wide entries first: their instances are the CPU's wide ones (those not in any sub-cell).
     std::set<std::uint32_t> inSubCells;
@@ -158,6 +160,9 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   EXPECT_EQ(checked, entries);
   EXPECT_EQ(uncovered, 0u);
   EXPECT_EQ(looseEntries, 0u);
+  // With sub-cell lists the occupancy holds the instances that are not wide; in host-placed
+  // lists every instance (the CPU reference does the same).
+  const bool subLists = gpu.frame().subListCapacity > 0;
   std::size_t movedDiffer = 0, occupancyDiffer = 0, occupiedBits = 0;
   for (std::uint32_t r = 0; r < regions.size(); ++r) {
     // The GPU passes keep the host's wake bits as uploaded.
@@ -181,7 +186,7 @@ std::size_t expectListsEqual(const CascadeStackImage& stack, test::RandomObjects
   EXPECT_EQ(occupancyDiffer, 0u);
   EXPECT_GT(occupiedBits, 0u);
   EXPECT_GT(entries, 0u);
-  expectSubCellListsEqual(regions, entryData, cpu, gpu.frame().subListCapacity > 0);
+  expectSubCellListsEqual(regions, entryData, cpu, subLists);
   return spanning;
 }
 
@@ -577,8 +582,8 @@ TEST(InstanceInStack, EqualsTheGeneralMatrixProductsAndInverse) {
 }
 
 // No instances: no pass. Short region lists (a mean below subListMinMeanEntries per occupied
-// region): count, rank, scan and fill only, every region walked with its region list, and the
-// lists still those of the CPU reference; long enough: the two sub-cell passes as well.
+// region): the fill alone, into the slots the host placed, every region walked with its region
+// list, and the lists still those of the CPU reference; long enough: all six passes.
 TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothingAndShortListsSkipTheSubCellPasses) {
   const CascadeStackImage stack = test::windowsOnlyStack(2);
   test::RandomObjects objects;
@@ -611,7 +616,7 @@ TEST_F(ObjectRegionsTest, NoInstancesDispatchesNothingAndShortListsSkipTheSubCel
     const bool lists = threshold == 0.0f;
     EXPECT_EQ(scene.frame().subListCapacity > 0, lists);
     std::vector<std::string> want = all;
-    if (!lists) want = {all[0], all[1], all[2], all[5]};
+    if (!lists) want = {all[5]};  // the host placed the lists: only the fill
     EXPECT_EQ(passes(scene), want);
     std::size_t without = 0, listed = 0;
     for (const gs::ObjectRegionGpu& r : scene.downloadRegions()) {
