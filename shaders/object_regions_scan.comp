@@ -3,7 +3,8 @@
 // count: one workgroup turns every region's counts into starts, exclusive prefix sums in region
 // order of the list entries, the occupied sub-cells (one sub-cell header each, counted by the
 // rank pass) and the sub-cell entries, clamped to the capacities the host sized. 512 threads of
-// 4 consecutive regions each (2,048 regions at most).
+// 4 consecutive regions each (2,048 regions at most). Only frames with sub-cell lists run it:
+// short lists are placed by the host (object_regions.comp, phase 6).
 // One SM issues every access, and a warp's access to a field of 32 regions 208 bytes apart is 32
 // transactions: field by field, read, reread and written, that was ~27,000 of them, 0.043 ms on
 // an H100 with the rank pass before it, whatever the object count. So each region's first 32
