@@ -269,7 +269,7 @@ void ObjectScene::recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& stagin
   const bool subLists = frame_.subListCapacity > 0;
   if (subLists)
     batch.fill(lists_, 0u, std::size_t(frame_.listCapacity) * sizeof(glm::uvec4),
-               std::size_t(frame_.subListCapacity) * gs::kSubHeaderWords * sizeof(glm::uvec4));
+               std::size_t(frame_.subListCapacity) * sizeof(glm::uvec4));
   gs::ObjectRegionPush push{0u, n,  cascades, frame_.listCapacity, frame_.subListCapacity,
                             0u, 0u, 0u};
   const glm::uvec3 perInstance(64u * n, cascades, 1u);
@@ -297,8 +297,7 @@ void ObjectScene::recordBuilt(gpu::CommandBatch& batch, gpu::StagingRing& stagin
 }
 
 std::size_t ObjectScene::listEntries() const {
-  return std::size_t(frame_.listCapacity) +
-         (gs::kSubHeaderWords + 1) * std::size_t(frame_.subListCapacity);
+  return std::size_t(frame_.listCapacity) + 2 * std::size_t(frame_.subListCapacity);
 }
 
 std::vector<gs::ObjectTraceHit> ObjectScene::trace(std::span<const gs::TraceRay> rays,

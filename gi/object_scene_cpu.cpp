@@ -217,22 +217,19 @@ ObjectSceneCpu::ObjectSceneCpu(const ObjectLibrary& library, const InstanceSet& 
     std::size_t own = 0;
     for (const auto& list : subLists[g]) own += list.size();
     const bool fits = capacity > 0 && headers + rank <= capacity && entries + own <= capacity;
-    regions_[g].subBase =
-        fits ? std::uint32_t(headerBase + gs::kSubHeaderWords * headers) : gs::kNoSubLists;
+    regions_[g].subBase = fits ? std::uint32_t(headerBase + headers) : gs::kNoSubLists;
     if (!fits) subLists[g].clear();
     headers += rank;
     entries += own;
   }
-  flat_.resize(headerBase + gs::kSubHeaderWords * headers, glm::uvec4(0u));
+  flat_.resize(headerBase + headers, glm::uvec4(0u));
   for (std::size_t g = 0; g < regionCount; ++g) {
     const glm::vec4 ro = frame_.frame.regionOrigin[g / gs::kRegionsPerCascade];
     regions_[g].subStart = std::uint32_t(flat_.size());
     for (std::uint32_t bit = 0, rank = 0; bit < 512 && !subLists[g].empty(); ++bit) {
       if (subLists[g][bit].empty()) continue;
-      const std::size_t h = regions_[g].subBase + gs::kSubHeaderWords * rank++;
-      flat_[h] =
+      flat_[regions_[g].subBase + rank++] =
           glm::uvec4(std::uint32_t(flat_.size()), std::uint32_t(subLists[g][bit].size()), 0u, 0u);
-      flat_[h + 1] = entryOf(p, subLists[g][bit].front(), regionLo[g], ro.w);
       for (std::uint32_t i : subLists[g][bit]) flat_.push_back(entryOf(p, i, regionLo[g], ro.w));
     }
   }
@@ -244,7 +241,7 @@ std::vector<std::uint32_t> ObjectSceneCpu::subCellInstances(std::uint32_t region
   const gs::ObjectRegionGpu& r = regions_.at(region);
   if ((r.occupancy[bit / 32] >> (bit % 32) & 1u) == 0 || r.subBase == gs::kNoSubLists) return out;
   ObjectPasses p = passesOf<ObjectPasses>(atlas_, frame_, regions_, flat_);
-  const glm::uvec4 header = flat_.at(r.subBase + gs::kSubHeaderWords * p.objSubRank(region, bit));
+  const glm::uvec4 header = flat_.at(r.subBase + p.objSubRank(region, bit));
   for (std::uint32_t k = 0; k < header.y; ++k) out.push_back(flat_.at(header.x + k).x);
   std::sort(out.begin(), out.end());
   return out;

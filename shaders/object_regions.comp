@@ -20,8 +20,7 @@
 //   3 sub-count: as 0, counting each non-wide instance into the headers of its sub-cells;
 //   4 sub-scan:  workgroup per region: its headers' counts into entry starts;
 //   5 fill:      as 0, appending the instance's entry (index and quantised AABB, objListEntry)
-//                to its region's list (wide ones first) and to its sub-cells' lists (the first
-//                of each also into its header's second word).
+//                to its region's list (wide ones first) and to its sub-cells' lists.
 // A frame without sub-cell lists (short region lists, ObjectSceneSettings::subListMinMeanEntries)
 // runs phase 6 alone: the host has sized each region's slots from the same AABB ranges and
 // written its start, so an instance appends its entry with one atomic on the region's count and
@@ -59,7 +58,7 @@ void scanSubCells() {
   uint begin = min(lid * 8u, n);
   uint end = min(begin + 8u, n);
   uint sum = 0u;
-  for (uint h = begin; h < end; ++h) sum += objList[base + kSubHeaderWords * h].y;
+  for (uint h = begin; h < end; ++h) sum += objList[base + h].y;
   partial[lid] = sum;
   barrier();
   if (lid == 0u) {
@@ -73,10 +72,9 @@ void scanSubCells() {
   barrier();
   uint at = objRegions[r].subStart + partial[lid];
   for (uint h = begin; h < end; ++h) {
-    uint header = base + kSubHeaderWords * h;
-    objList[header].x = at;
-    objList[header].z = 0u;
-    at += objList[header].y;
+    objList[base + h].x = at;
+    objList[base + h].z = 0u;
+    at += objList[base + h].y;
   }
 }
 
@@ -172,13 +170,12 @@ void main() {
     for (int z = sr.lo.z; z <= sr.hi.z; ++z)
       for (int y = sr.lo.y; y <= sr.hi.y; ++y)
         for (int x = sr.lo.x; x <= sr.hi.x; ++x) {
-          uint h = base + kSubHeaderWords * objSubRank(region, uint(x + 8 * y + 64 * z));
+          uint h = base + objSubRank(region, uint(x + 8 * y + 64 * z));
           if (pc.phase == 3u) {
             atomicAdd(objList[h].y, 1u);
           } else {
             uint slot = atomicAdd(objList[h].z, 1u);
             if (slot < objList[h].y) objList[objList[h].x + slot] = entry;
-            if (slot == 0u) objList[h + 1u] = entry;  // the header's copy of the first entry
           }
         }
   }

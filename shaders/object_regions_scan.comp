@@ -70,12 +70,10 @@ void main() {
     // A capacity of 0: no sub-cell lists this frame (their passes are not recorded).
     bool fits = pc.subCapacity > 0u && at.y + headers <= pc.subCapacity &&
                 at.z + entries <= pc.subCapacity;
-    objRegionWords[r * kRegionVec4s] = uvec4(listed, s, min(a[j].z, listed),
-                                             fits ? pc.capacity + kSubHeaderWords * at.y
-                                                  : kNoSubLists);
-    objRegionWords[r * kRegionVec4s + 1u] = uvec4(
-        b[j].x, pc.capacity + kSubHeaderWords * pc.subCapacity + min(at.z, pc.subCapacity), 0u,
-        0u);
+    objRegionWords[r * kRegionVec4s] =
+        uvec4(listed, s, min(a[j].z, listed), fits ? pc.capacity + at.y : kNoSubLists);
+    objRegionWords[r * kRegionVec4s + 1u] =
+        uvec4(b[j].x, pc.capacity + pc.subCapacity + min(at.z, pc.subCapacity), 0u, 0u);
     at += uvec3(n, headers, entries);
   }
 }

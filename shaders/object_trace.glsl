@@ -436,16 +436,12 @@ ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasca
       // it has been tested for, so a hit there is the nearest.
       uint runStart = start;
       uint runCount = wide;
-      // A sub-cell run's first entry, read with its header (runInline): no load waits on it.
-      uvec4 runFirst = uvec4(0u);
-      bool runInline = false;
       float runFrom = t;
       float runTo = segEnd;
       float done = t;
       for (uint run = 0u; run < 26u; ++run) {
         for (uint k = 0u; k < runCount; ++k) {
-          uvec4 entry = runInline && k == 0u ? runFirst : OBJ_LIST(runStart + k);
-          best = objTestEntry(best, entry, o, d, inv, runFrom, runTo, rLo, ro.w);
+          best = objTestEntry(best, OBJ_LIST(runStart + k), o, d, inv, runFrom, runTo, rLo, ro.w);
           if (anyHit && best.t >= 0.0f) return best;
         }
         if (best.t >= 0.0f && best.t <= done + 1e-3f) return best;
@@ -463,17 +459,13 @@ ObjectHit objWalkRegions(vec3 o, vec3 d, float tMin, float tMax, uint firstCasca
             // A hair before the sub-cell's entry: rounding at its face must not skip a surface.
             runFrom = max(t, cellT - 1e-4f * ro.w);
             if (subBase == kNoSubLists) {
-              runInline = false;
               runStart = start + wide;
               runCount = count - wide;
               runTo = segEnd;
               walking = false;
             } else {
               OBJ_COUNT(occupiedCells);
-              uint h = subBase + kSubHeaderWords * objSubRank(region, bit);
-              uvec4 header = OBJ_LIST(h);
-              runFirst = OBJ_LIST(h + 1u);
-              runInline = true;
+              uvec4 header = OBJ_LIST(subBase + objSubRank(region, bit));
               runStart = header.x;
               runCount = header.y;
               runTo = cellExit;

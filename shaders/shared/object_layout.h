@@ -62,12 +62,9 @@ SDF_CONST uint kObjectFlagMoved = 1u;  // transform changed (or added/removed) t
 // is also listed once per sub-cell it touches, so a ray tests only the objects of the occupied
 // sub-cells it crosses. Larger ones ("wide") are tested once per region instead (their copies
 // would grow with their volume). A region's occupied sub-cell k (k = rank of its bit among the
-// region's occupancy bits) has a header of kSubHeaderWords uvec4 at OBJ_LIST(subBase + 2k): x first
-// entry in OBJ_LIST, y entries, z fill cursor, w 0; then a copy of its first entry, so a list of
-// one (most of them) costs the walk no load after the header's; the entries are objListEntry
-// records of the region.
+// region's occupancy bits) has a header uvec4 at OBJ_LIST(subBase + k): x first entry in OBJ_LIST,
+// y entries, z fill cursor, w 0; the entries are objListEntry records of the region.
 SDF_CONST uint kSubListMaxCells = 64;
-SDF_CONST uint kSubHeaderWords = 2;
 SDF_CONST uint kNoSubLists = 0xffffffffu;  // subBase when the lists did not fit: walk the region
 // object_regions_scan.comp's one workgroup: 4 regions a thread at kMaxRegionCascades (every
 // desktop driver and lavapipe allow 1,024 invocations; ComputePipeline checks the limit).
@@ -121,8 +118,8 @@ struct ObjectFrameGpu {
 };
 
 // Push constants of object_regions.comp (every phase shares one layout). OBJ_LIST holds the
-// region lists' `capacity` entries, then `subCapacity` sub-cell headers (kSubHeaderWords each),
-// then `subCapacity` sub-cell entries.
+// region lists' `capacity` entries, then `subCapacity` sub-cell headers, then `subCapacity`
+// sub-cell entries.
 struct ObjectRegionPush {
   uint phase;  // 0 count, 1 rank, 2 scan, 3 sub-cell count, 4 sub-cell scan, 5 fill,
                // 6 fill into the host's slots (no sub-cell lists: the only pass)
