@@ -182,17 +182,21 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                         const float radius =
                             wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
                         for (std::uint32_t c = 0; c < cascades; ++c) {
+                          Range& r = out.wakeRanges[k * cascades + c];
+                          r.lo = glm::ivec3(0);
+                          r.hi = glm::ivec3(-1);
+                          // A cascade that would not list the object wakes nothing: checked
+                          // first, it spares the range's arithmetic.
+                          if (!listedIn(f, c, radius, settings.sizeRule)) continue;
                           const glm::vec4 ro = f.regionOrigin[c];
                           const float inv = float(gs::kSubCellsPerAxis) / ro.w;  // exact
                           const glm::vec3 a = (lo - glm::vec3(ro)) * inv;
                           const glm::vec3 b = (hi - glm::vec3(ro)) * inv;
-                          Range& r = out.wakeRanges[k * cascades + c];
+                          if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
+                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubCells)))))
+                            continue;
                           r.lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
                           r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubCells - 1));
-                          if (glm::any(glm::lessThan(b, glm::vec3(0.0f))) ||
-                              glm::any(glm::greaterThan(a, glm::vec3(float(kSubCells)))) ||
-                              !listedIn(f, c, radius, settings.sizeRule))
-                            r.hi = glm::ivec3(-1);
                         }
                       }
                     });
