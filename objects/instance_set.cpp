@@ -1,5 +1,6 @@
 #include "objects/instance_set.h"
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -106,10 +107,39 @@ void InstanceSet::move(std::span<const InstanceId> ids, std::span<const ObjectTr
     slotOf(ids[k]);
     poses[k].validate();
   });
-  // The change record is ordered, so it is kept serially (a lookup and, for an instance's first
-  // change of the frame, a copy of its start pose); each slot remembers the last pair moving it,
-  // so that a repeated id stores its last pose alone and no two tasks write one instance.
+  // How many pairs move each slot: a batch without repeated ids (the usual one) records and
+  // stores in parallel; with repeats, the record is kept serially.
   lastMove_.resize(instances_.size());
+  each([&](std::size_t k) { std::atomic_ref(lastMove_[slot_[ids[k]]]).store(0u); });
+  std::atomic<bool> repeated = false;
+  each([&](std::size_t k) {
+    if (std::atomic_ref(lastMove_[slot_[ids[k]]]).fetch_add(1u) > 0u) repeated = true;
+  });
+  if (!repeated) {
+    // The ordered change record: an instance's first change of the frame appends its start
+    // pose, at the place a serial walk of the pairs would (an exclusive scan of the new ones).
+    changeAt_.resize(ids.size());
+    std::uint32_t appended = std::uint32_t(changes_.size());
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const bool first = changeOf_[ids[k]] == kAbsent;
+      changeAt_[k] = first ? appended : kAbsent;
+      appended += first ? 1u : 0u;
+    }
+    changes_.resize(appended);
+    each([&](std::size_t k) {
+      Instance& instance = instances_[slot_[ids[k]]];
+      if (changeAt_[k] != kAbsent) {
+        changes_[changeAt_[k]] = {instance.id, instance.mesh, instance.pose};
+        changeOf_[instance.id] = changeAt_[k];
+      }
+      instance.pose = poses[k];
+      instance.movedThisFrame = true;
+    });
+    return;
+  }
+  // Repeated ids: the record serially (a lookup and, for an instance's first change of the frame,
+  // a copy of its start pose); each slot remembers the last pair moving it, so that a repeated id
+  // stores its last pose alone and no two tasks write one instance.
   for (std::size_t k = 0; k < ids.size(); ++k) {
     const std::uint32_t slot = slot_[ids[k]];
     recordChange(instances_[slot], true);

@@ -100,7 +100,10 @@ class InstanceSet {
   std::vector<std::uint32_t> slot_;  // by id: index into instances_, or kAbsent
   std::vector<Change> changes_;
   std::vector<std::uint32_t> changeOf_;  // by id: index into changes_, or kAbsent (this frame)
-  std::vector<std::uint32_t> lastMove_;  // by slot: the batch move's last pair for it (scratch)
+  // Batch move scratch: by slot, the pairs moving it (then, with repeats, the last pair); by
+  // pair, where its change lands in changes_ (kAbsent: none, the instance already changed).
+  std::vector<std::uint32_t> lastMove_;
+  std::vector<std::uint32_t> changeAt_;
 };
 
 }  // namespace sdfstream

@@ -106,13 +106,24 @@ void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
                         changed_[i] = poses_[i] != instance->pose ? 1 : 0;
                       }
                     });
-  moveIds_.clear();
-  movePoses_.clear();
+  // Where each changed binding lands (an exclusive scan of the flags, serial: a byte each), then
+  // the copies in parallel.
+  std::uint32_t moved = 0;
   for (std::size_t i = 0; i < bindings_.size(); ++i) {
-    if (!changed_[i]) continue;
-    moveIds_.push_back(bindings_[i].id);
-    movePoses_.push_back(poses_[i]);
+    const bool changed = changed_[i] != 0;
+    changed_[i] = changed ? moved + 1 : 0;  // 1 + the pair's index, 0: unchanged
+    moved += changed ? 1u : 0u;
   }
+  moveIds_.resize(moved);
+  movePoses_.resize(moved);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bindings_.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        if (changed_[i] == 0) continue;
+                        moveIds_[changed_[i] - 1] = bindings_[i].id;
+                        movePoses_[changed_[i] - 1] = poses_[i];
+                      }
+                    });
   set.move(moveIds_, movePoses_);
 }
 

@@ -78,8 +78,9 @@ class ScriptedMotion {
     std::vector<double> pathLength;  // Path: length from points[0] to each point, then the loop
   };
   std::vector<Binding> bindings_;
-  // apply's scratch: by binding, whether its pose changed and the pose; then the moves.
-  mutable std::vector<std::uint8_t> changed_;
+  // apply's scratch: by binding, whether its pose changed (then 1 + its place among the moves,
+  // 0 when unchanged) and the pose; then the moves.
+  mutable std::vector<std::uint32_t> changed_;
   mutable std::vector<ObjectTransform> poses_;
   mutable std::vector<InstanceId> moveIds_;
   mutable std::vector<ObjectTransform> movePoses_;

@@ -176,13 +176,16 @@ TEST(InstanceSet, BatchMoveEqualsMovingEachPairInOrder) {
   for (int frame = 0; frame < 4; ++frame) {
     batched.endFrame();
     oneByOne.endFrame();
-    // Several batches a frame, with repeated ids inside a batch and across batches: the last
-    // pose wins, the record keeps the frame's start pose, in order of first change.
-    for (int batch = 0; batch < 3; ++batch) {
+    // Several batches a frame: distinct ids in a shuffled order (the parallel record), then
+    // repeated ids inside a batch and across batches (the serial one): the last pose wins, the
+    // record keeps the frame's start pose, in order of first change.
+    for (int batch = 0; batch < 4; ++batch) {
       std::vector<InstanceId> moveIds;
       std::vector<ObjectTransform> poses;
+      std::vector<InstanceId> shuffled = ids;
+      std::shuffle(shuffled.begin(), shuffled.end(), rng);
       for (int k = 0; k < 3000; ++k) {
-        moveIds.push_back(ids[rng() % ids.size()]);
+        moveIds.push_back(batch % 2 == 0 ? shuffled[k] : ids[rng() % ids.size()]);
         poses.push_back(at(double(rng() % 100000) / 8.0, frame, batch));
       }
       batched.move(moveIds, poses);
