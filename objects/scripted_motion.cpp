@@ -106,7 +106,7 @@ void ScriptedMotion::apply(InstanceSet& set, double timeSeconds) const {
                         changed_[i] = poses_[i] != instance->pose ? 1 : 0;
                       }
                     });
-  // Where each changed binding lands (an exclusive scan of the flags, serial: a byte each), then
+  // Where each changed binding lands (an exclusive scan of the flags, serial: a word each), then
   // the copies in parallel.
   std::uint32_t moved = 0;
   for (std::size_t i = 0; i < bindings_.size(); ++i) {

@@ -67,7 +67,7 @@ void main() {
     uint entries = b[j].y;
     uint s = min(at.x, pc.capacity);
     uint listed = min(n, pc.capacity - s);  // never past the list (host sizes it so)
-    // A capacity of 0: no sub-cell lists this frame (their passes are not recorded).
+    // A region whose sub-cell headers or entries would pass the capacity is walked without them.
     bool fits = pc.subCapacity > 0u && at.y + headers <= pc.subCapacity &&
                 at.z + entries <= pc.subCapacity;
     objRegionWords[r * kRegionVec4s] =
