@@ -65,10 +65,10 @@ const char* kHelp =
     "usage: sdfstream stress WORLD [--objects LIST] [--frames N] [--warmup N] [--out DIR]\n"
     "                        [--seed S] [--no-naive] [--naive-max N] [--no-cards-peer]\n"
     "                        [--meshes N] [--sun-orbit DEG] [--sub-list-entries N]\n"
-    "                        [--sub-list-min-mean X] [--device NAME]\n"
+    "                        [--sub-list-min-mean X] [--wake-change X] [--device NAME]\n"
     "                        [--validation] [options]\n"
     "\n"
-    "The moving-object stress benchmark (issue 7), headless. Streams the world pack WORLD around\n"
+    "The moving-object stress benchmark, headless. Streams the world pack WORLD around\n"
     "a fixed camera until its cascades settle, then freezes the stack and runs the GI (default\n"
     "settings) for --frames measured frames per configuration, each on a fresh GI system:\n"
     "static-only first (no object scene; repeated once, after the 0-object run, as the noise\n"
@@ -77,8 +77,9 @@ const char* kHelp =
     "macro-region lists (regions), the same with the objects' cards off (regions-no-cards: hits\n"
     "carry no direct light of their own), and by testing every probe ray against every object\n"
     "(naive). Records per frame the region passes' GPU time (count, scan,\n"
-    "fill; the rank and sub-cell passes count with count and scan), the probe\n"
-    "update and its probe_trace pass, the light cache and the pages it relit,\n"
+    "fill; the rank and sub-cell passes count with count and scan; short lists, which the\n"
+    "host places, run the fill alone), the probe update and its probe_trace pass, the\n"
+    "light cache and the pages it relit, the probes updated,\n"
     "rays traced and the object rays, hits and steps, and the host's CPU time by part (motion,\n"
     "object frame, shadow pages, ...); downloads every probe's irradiance every\n"
     "100 frames and at the end to count non-finite texels, and the card light texels whose\n"
@@ -115,6 +116,10 @@ const char* kHelp =
     "  --sub-list-min-mean X\n"
     "                     build sub-cell lists only when the region lists hold at least X\n"
     "                     entries per occupied region on average (default 8; 0: always)\n"
+    "  --wake-change X    a move wakes the probes whose irradiance it can change by at least\n"
+    "                     this fraction (default 0.05, the probes' sleep threshold; 1: only\n"
+    "                     probes inside the moved boxes): fewer woken probes cost less and\n"
+    "                     follow a mover later\n"
     "  --cascades N       cascades (default 6, at most the pack's LOD count)\n"
     "  --camera x,y,z     camera position (default: above the centre of the world's bounds,\n"
     "                     2 m over the surface below it); it looks along -z, slightly down\n"
@@ -132,12 +137,28 @@ const char* kHelp =
 }  // namespace
 
 int runStress(int argc, char** argv) {
-  Args args(
-      argc, argv, 2,
-      {"--objects", "--frames", "--warmup", "--out", "--seed", "--naive-max", "--device",
-       "--cascades", "--camera", "--area-width", "--area-height", "--probe-rays", "--probe-budget",
-       "--sun", "--sky", "--meshes", "--sun-orbit", "--sub-list-entries", "--sub-list-min-mean"},
-      {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
+  Args args(argc, argv, 2,
+            {"--objects",
+             "--frames",
+             "--warmup",
+             "--out",
+             "--seed",
+             "--naive-max",
+             "--device",
+             "--cascades",
+             "--camera",
+             "--area-width",
+             "--area-height",
+             "--probe-rays",
+             "--probe-budget",
+             "--sun",
+             "--sky",
+             "--meshes",
+             "--sun-orbit",
+             "--sub-list-entries",
+             "--sub-list-min-mean",
+             "--wake-change"},
+            {"--help", "-h", "--no-naive", "--no-cards-peer", "--validation"});
   if (args.has("--help") || args.has("-h")) {
     std::fputs(kHelp, stdout);
     return 0;
@@ -175,6 +196,10 @@ int runStress(int argc, char** argv) {
       args.number("--sub-list-min-mean", o.settings.objects.subListMinMeanEntries);
   if (minMean < 0.0) usage("--sub-list-min-mean must be >= 0");
   o.settings.objects.subListMinMeanEntries = float(minMean);
+  const double wakeChange = args.number("--wake-change", o.settings.objects.wakeIrradianceChange);
+  if (!(wakeChange >= 1e-4 && wakeChange <= 1.0))
+    usage("--wake-change must be in [0.0001, 1], got '" + *args.value("--wake-change") + "'");
+  o.settings.objects.wakeIrradianceChange = float(wakeChange);
   o.lights = render.lights;
   o.device = *deviceFromArgs(args);  // no --cpu: the objects need Vulkan
   o.command = commandLine(argc, argv, 0);

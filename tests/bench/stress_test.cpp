@@ -141,8 +141,9 @@ TEST(Stress, SmallRunWritesEveryOutputAndZeroObjectsEqualsStaticOnly) {
 
 TEST(Stress, BadArgumentsFailWithOneLine) {
   const fs::path dir = test::scratchDir("stress-bad");
-  for (const std::string bad : {"--objects 10,abc", "--objects 10,,20", "--objects -5",
-                                "--objects 2000000", "--frames 0"}) {
+  for (const std::string bad :
+       {"--objects 10,abc", "--objects 10,,20", "--objects -5", "--objects 2000000", "--frames 0",
+        "--wake-change 0", "--wake-change 1.5", "--wake-change nan"}) {
     const Result r =
         runCli("stress " + dir.string() + " " + bad + " --out " + (dir / "out").string());
     EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.err;
