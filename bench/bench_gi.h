@@ -1,4 +1,4 @@
-// `sdfstream bench gi` (issue 6 items 3-6): run time vs error of the probe GI against a
+// `sdfstream bench gi`: run time vs error of the probe GI against a
 // path-traced reference, over a sweep of the probe settings, with plain DDGI built from the same
 // code as the baseline, and the probe-ray traversal against its peers on one frame's rays.
 //

@@ -22,7 +22,7 @@ struct GiConfig {
 // "chebyshev", "sdf", "chebyshev+sdf".
 const char* visibilityName(probe::ProbeFieldSettings::Visibility v);
 
-// "Plain DDGI" (issue 6 item 4) from the same code: a uniform grid of one probe per brick, no
+// "Plain DDGI" from the same code: a uniform grid of one probe per brick, no
 // relocation, no states, no hit cache, Chebyshev visibility only.
 probe::ProbeFieldSettings plainDdgi();
 

@@ -1,4 +1,4 @@
-// Peers of the probe-ray traversal in `sdfstream bench gi` (issue 6 item 5), all given the same
+// Peers of the probe-ray traversal in `sdfstream bench gi`, all given the same
 // ray set -- the probe rays of one frame of the GI -- in the same run:
 //   sdfstream   sphere tracing through the streamed cascade stack (trace_stack.comp through
 //               GpuStackTracer) on the device in use; time = the pass's GPU timestamps

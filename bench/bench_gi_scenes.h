@@ -1,4 +1,4 @@
-// The scenes of `sdfstream bench gi` (issue 6 item 3): each as source triangles (for the path
+// The scenes of `sdfstream bench gi`: each as source triangles (for the path
 // traced reference and the peers), lights and sky in world units, views, and a streamed cascade
 // stack over a world pack imported from those triangles (cached on disk by source).
 //

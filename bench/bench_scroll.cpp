@@ -121,7 +121,7 @@ int runScrollBench(const ScrollBenchOptions& o) {
      << "** |\n"
      << "| pages changed | " << mv.pages << " | " << rb.pages << " | "
      << double(rb.pages) / std::max<double>(1.0, mv.pages) << " |\n\n"
-     << "Goal (issue 4): a move at least 20x cheaper than a rebuild: time "
+     << "Goal: a move at least 20x cheaper than a rebuild: time "
      << (timeRatio >= 20 ? "met" : "NOT met") << ", bytes " << (byteRatio >= 20 ? "met" : "NOT met")
      << ".\n";
   std::string mdText = md.str();

@@ -1,6 +1,6 @@
 // `sdfstream bench scroll`: what a one-brick camera move costs against rebuilding every cascade
 // from scratch, measured in the same run on the same world and the same (warm) tile cache.
-// Issue 4's goal: a scroll ≥ 20× cheaper than a rebuild, in time and in bytes uploaded. Writes
+// The streaming goal: a scroll ≥ 20× cheaper than a rebuild, in time and in bytes uploaded. Writes
 // results.csv (every move and rebuild) and summary.md.
 #pragma once
 

@@ -1,4 +1,4 @@
-// `sdfstream bench stream` (issue 4 "Must show"): fly-throughs over a world pack at 50 and 200 m/s
+// `sdfstream bench stream`: fly-throughs over a world pack at 50 and 200 m/s
 // streaming into the cascade stack (no rendering, no GPU), measured against the disk's physical
 // limit (a plain sequential read of the same tile files, same run), plus a long unpaced run
 // sampling RSS, the loader's RAM cache and the atlas bytes to show that memory does not grow.

@@ -123,7 +123,7 @@ bool writeLongRun(std::ostringstream& md, const StreamBenchResults& r) {
 
 void writeGoals(std::ostringstream& md, const StreamBenchResults& r, bool rssGrew) {
   const Flight& slow = r.flights.front();
-  md << "## Goals (issue 4)\n\n"
+  md << "## Goals\n\n"
      << "- Resident fraction ≥ 99% at 50 m/s: "
      << fmt(100.0 * slow.summary.meanResidentFraction, "%.3f") << "% — "
      << (slow.summary.meanResidentFraction >= 0.99 ? "met" : "NOT met") << ".\n"

@@ -1,4 +1,4 @@
-// `sdfstream stress` (issue 7): many moving objects against the static-only GI, headless. Streams
+// `sdfstream stress`: many moving objects against the static-only GI, headless. Streams
 // a world pack around a fixed camera until the cascades settle, then, on that frozen stack, runs
 // the GI for a number of frames per configuration -- static-only first (no object scene, and
 // once more as the noise floor), then for each object count the same spread, scripted instances

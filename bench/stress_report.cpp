@@ -595,7 +595,7 @@ void writeStressReport(const fs::path& dir, const StressSetup& setup,
 
   int downloads = 0;
   for (const StressRun& r : runs) downloads += r.irradianceChecks;
-  std::string md = "# Moving-object stress test (issue 7)\n\n";
+  std::string md = "# Moving-object stress test\n\n";
   md += "- World: `" + setup.world + "`\n- Device: " + setup.device +
         (setup.software ? " (a CPU Vulkan implementation: times are not a GPU's, and the probe "
                           "ray budget is cut to keep the run short)"

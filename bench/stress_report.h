@@ -1,4 +1,4 @@
-// What `sdfstream stress` (issue 7) measured, and how it is written: results.csv (one row per
+// What `sdfstream stress` measured, and how it is written: results.csv (one row per
 // object count x mode), frames.csv (every measured frame), summary.md (the table, the goal check,
 // the 0-object check, scaling) and three PNG plots of GPU time vs object count (demo/plot.h).
 #pragma once
@@ -105,7 +105,7 @@ struct StressSetup {
 struct StressChecks {
   std::uint64_t nonFiniteTexels = 0, nonFiniteCardTexels = 0, validationMessages = 0;
   // The 0-object run did no object work at all: no region pass, no probe ray searched objects,
-  // in any frame (the skip of issue 7 item 5; a failure otherwise).
+  // in any frame (with no object nothing is dispatched; anything else fails the run).
   bool zeroObjectsNoObjectWork = true;
   // ... and traced exactly the static-only run's rays in every frame. Reported, not required:
   // the probe selection at the ray budget's cutoff depends on thread order (probe_field.glsl,

@@ -1,11 +1,10 @@
-// Final shading of the demo frames with the GI core (issue 5 "the demo shades its frames with
-// it"): each primary ray is traced through the cascade stack and shaded on the GPU
-// (shade_primary.comp: emission + albedo/π · E_direct, or the sky on a miss), then the probe
-// field adds albedo/π · E_indirect, E_indirect = GiSystem::irradiance(x, n, view) batched over
-// every hit pixel. The result is linear radiance per pixel, kept as its direct and indirect
-// parts so a reader can see the indirect light alone; demo/frame_image.h tone-maps it.
+// Final shading of the demo frames with the GI core: each primary ray is traced through the cascade
+// stack and shaded on the GPU (shade_primary.comp: emission + albedo/π · E_direct, or the sky on a
+// miss), then the probe field adds albedo/π · E_indirect, E_indirect = GiSystem::irradiance(x, n,
+// view) batched over every hit pixel. The result is linear radiance per pixel, kept as its direct
+// and indirect parts so a reader can see the indirect light alone; demo/frame_image.h tone-maps it.
 //
-// Moving objects (issue 7, GiRenderer::setObjects): the GPU pass also searches the objects in
+// Moving objects (GiRenderer::setObjects): the GPU pass also searches the objects in
 // front of each static hit and shades the nearer object hit (its direct light, then its indirect
 // light from the same probe query at the object's surface), and objects block every shadow ray
 // (hard shadows), so they darken the direct light of what lies under them; the probes see them

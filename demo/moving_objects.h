@@ -1,5 +1,5 @@
-// Scripted moving objects for the demo commands (issue 7: "The fly-through demo shows moving
-// objects casting indirect shadows"): boxes and spheres placed deterministically from a seed,
+// Scripted moving objects for the demo commands (the fly-through shows moving objects casting
+// indirect shadows): boxes and spheres placed deterministically from a seed,
 // each bound to a ScriptedMotion mover (objects/scripted_motion.h), so any frame can be replayed
 // alone. `sdfstream fly` spreads them along its camera path on the pack's ground; `sdfstream demo`
 // adds a few to its built-in scene. Not thread-safe (one owner, the frame loop).

@@ -1,4 +1,4 @@
-// The GI core in one object (issue 5): the stack's device copy (GpuStackScene), the static
+// The GI core in one object: the stack's device copy (GpuStackScene), the static
 // voxel light cache (LightCache) and the probe field (ProbeField), driven once per frame in the
 // order they depend on each other: sync the streamed bricks -> region lists of moving objects ->
 // relight the dirty pages -> update the probes. Then irradiance(x, n, view) queries for shading.
@@ -110,7 +110,7 @@ class GiSystem {
   std::optional<GiFrameStats> completedStats();
   std::uint32_t framesInFlight() const { return staging_.framesInFlight(); }
 
-  // Moving objects (issue 7), or none (nullptr, the default). Each update then uploads the
+  // Moving objects, or none (nullptr, the default). Each update then uploads the
   // instances, rebuilds the macro-region lists, relights the pages their moves shadow or
   // unshadow, traces them in the probe update, and consumes the set's change record
   // (instances->endFrame()). Both must outlive their use here. The library's meshes get their

@@ -1,4 +1,4 @@
-// The static voxel light cache (issue 5 item 5; Godot SDFGI slides, "Filling the light texture
+// The static voxel light cache (Godot SDFGI slides, "Filling the light texture
 // with light" and "Caching light hits"): the outgoing direct radiance of every surface material
 // voxel of the cascade stack -- emission + albedo/π · (sun, point and spot lights with SDF-traced
 // soft shadows) -- stored per atlas material voxel as RGB9E5, indexed like the albedo/emission

@@ -1,4 +1,4 @@
-// The host half of the moving-object data (issue 7): the object-SDF atlas from the library and,
+// The host half of the moving-object data: the object-SDF atlas from the library and,
 // each frame, the instances carried into stack space plus the initial region records. Both the
 // GPU ObjectScene and its CPU reference ObjectSceneCpu consume exactly these, so host math is
 // written once.

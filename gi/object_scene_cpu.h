@@ -1,4 +1,4 @@
-// CPU reference of the moving-object passes (issue 7 "Must show"): region lists by brute force
+// CPU reference of the moving-object passes: region lists by brute force
 // (every region of every region cascade tested against every instance, no AABB ranges, no
 // atomics) and the traversal of shaders/object_trace.glsl compiled as C++ (the same math as the
 // GPU: STYLE.md habit 9).

@@ -1,4 +1,4 @@
-// The probe field on the GPU (issue 5): one DDGI probe volume per SDF cascade, updated each
+// The probe field on the GPU: one DDGI probe volume per SDF cascade, updated each
 // frame by compute passes over storage buffers --
 //   classify (scroll reset, SDF relocation, states, hit-cache invalidation; every probe)
 //   -> select (count per priority class, append within the ray budget, size the next passes)
@@ -60,7 +60,7 @@ class ProbeField {
   // they grow with the atlas in record(). Throws gpu::OutOfDeviceMemory where the device cannot
   // hold them (the cells are then empty, to be reserved again for fewer slots).
   void reserveBounceCells(std::uint32_t slots);
-  // Moving objects the next updates trace and classify against (issue 7), or none (nullptr):
+  // Moving objects the next updates trace and classify against, or none (nullptr):
   // the object scene must be updated for the same stack before each update() and outlive it.
   void setObjects(const ObjectScene* objects) { objects_ = objects; }
 

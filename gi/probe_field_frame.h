@@ -75,7 +75,7 @@ struct ProbeFieldSettings {
   // instead (the first rule; for comparison).
   bool backfacesBlack = false;
   float minVariance = gpu_shared::kProbeMinVariance;
-  float bounceGain = 1.0f;       // multi-bounce feedback (issue 5 item 5)
+  float bounceGain = 1.0f;  // multi-bounce feedback
   // Updates a bounce cell's lookup of the probes serves the hits in its material voxel
   // (probe_trace.glsl, "Bounce cells"): a hit reads the cell's irradiance instead of weighing 8
   // probes (16 in a cascade blend) itself. Four times the hit cache's 4 rotations: a cell that

@@ -1,4 +1,4 @@
-// One moving object's mesh as a dense local SDF in object space (issue 7): what the GPU object
+// One moving object's mesh as a dense local SDF in object space: what the GPU object
 // atlas holds per mesh (shaders/shared/object_layout.h, ObjectMeshGpu) and what the CPU reference
 // traces. Built once per mesh, shared by all its instances; instances only carry a transform.
 #pragma once

@@ -1,6 +1,6 @@
 // LDR-FLIP (Andersson, Nilsson, Akenine-Möller, Oskarsson, Åström, Fairchild 2020, "FLIP: A
 // Difference Evaluator for Alternating Images", Proc. ACM CGIT 3(2)), implemented from the
-// paper's description (issue 6, item 2: "mean FLIP between tone-mapped images"). Per pixel, an
+// paper's description (the mean FLIP between tone-mapped images). Per pixel, an
 // error in [0, 1] that approximates what an observer flipping between the two images notices.
 //
 // Pipeline (paper section numbers):

@@ -1,5 +1,5 @@
-// Disk cache of reference irradiance (issue 6, item 1: "cached to disk keyed by scene hash so
-// benchmarks do not recompute it").
+// Disk cache of reference irradiance, keyed by scene hash so that benchmarks do not recompute
+// it.
 //
 // The key is an XXH3 (core/hash.h checksum64) of everything the estimate depends on: the scene's
 // geometry, UVs, per-triangle materials and textures (material names excluded), the lights and

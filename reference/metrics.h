@@ -1,4 +1,4 @@
-// Error metrics of the GI against the reference (issue 6, item 2): relMSE of irradiance at
+// Error metrics of the GI against the reference: relMSE of irradiance at
 // points, and FLIP between tone-mapped images (reference/flip.h, included here so that one
 // header gives every metric). The tone map below is the one FLIP inputs go through.
 #pragma once
@@ -16,7 +16,7 @@ namespace sdfstream::reference {
 //   e_i = 1/3 Σ_c (test_ic − ref_ic)² / (ref_ic² + epsilon)
 //   relMSE = mean of e_i over the points left after discarding the floor(N·discardTopFraction)
 //            largest e_i.
-// The defaults discard the top 0.1% (issue 6: "discard the top 0.1%, state it"): a handful of
+// The defaults discard the top 0.1% (and say so in the reports): a handful of
 // fireflies in the test or the reference must not decide the score; with fewer than 1,000 points
 // nothing is discarded. epsilon (in squared irradiance units) keeps near-black points from
 // dominating. Non-finite errors count as +∞ (discarded first, otherwise the result is +∞).

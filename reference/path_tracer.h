@@ -1,7 +1,7 @@
-// Monte Carlo path tracer on the source triangles: the ground truth the GI is judged by (issue 6,
-// item 1). It sees the same scene as the GI — TriangleScene materials (linear albedo and emission
-// via sampleAlbedo / sampleEmission) and the SceneLights lights and sky (world/scene_lights.h,
-// semantics in shaders/shared/light_layout.h) — and is built on Embree, which no one here wrote.
+// Monte Carlo path tracer on the source triangles: the ground truth the GI is judged by. It sees
+// the same scene as the GI — TriangleScene materials (linear albedo and emission via sampleAlbedo /
+// sampleEmission) and the SceneLights lights and sky (world/scene_lights.h, semantics in
+// shaders/shared/light_layout.h) — and is built on Embree, which no one here wrote.
 //
 // Model:
 //  - Lambertian surfaces only, two-sided: at every hit the geometric normal is turned towards

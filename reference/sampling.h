@@ -1,6 +1,6 @@
 // Random numbers and hemisphere sampling for the reference path tracer (reference/path_tracer.h).
 //
-// Determinism (issue 6, "deterministic seeds"): there is no shared generator. Every (seed, point,
+// Determinism (deterministic seeds): there is no shared generator. Every (seed, point,
 // sample) triple keys its own small PCG32 stream, so a point's estimate depends only on those
 // numbers and never on which thread ran it or in which order — the result is bit-identical for
 // any thread count.

@@ -1,4 +1,4 @@
-// Direct light for the static voxel light cache (issue 5 item 5): sun, point and spot lights with
+// Direct light for the static voxel light cache: sun, point and spot lights with
 // SDF-traced soft shadows, the sky gradient, and the outgoing radiance of one material cell. One
 // definition for both languages: light_cache.comp includes it as GLSL, gi/light_cache.cpp as C++
 // inside a struct (the CPU reference, STYLE.md habit 9). Same rules as sdf_trace.glsl: no
@@ -238,7 +238,7 @@ vec3 lightIrradianceOffset(GpuLight l, vec3 p0, vec3 n, float minOffset, float v
     scalar *= sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, maxSteps, hitEpsilon,
                                  cascadeCount, l.shape.z);
 #ifdef OBJ_FRAME
-    // Moving objects cast hard shadows (issue 7 item 6); the includer binds them.
+    // Moving objects cast hard shadows; the includer binds them.
     if (scalar > 0.0f && OBJ_FRAME.counts.x > 0u && objOccluded(origin, ray.dir, 0.0f, ray.tMax))
       scalar = 0.0f;
 #endif

@@ -1,4 +1,4 @@
-// Rays against moving objects (issue 7 item 4; Godot SDFGI slides b, "Solution: Split into
+// Rays against moving objects (Godot SDFGI slides b, "Solution: Split into
 // smaller SDFs and combine with DDA"): each instance is a rigid/scaled copy of its mesh's local
 // SDF (object_layout.h); a ray walks the macro regions of the finest cascade that holds it (DDA
 // over 16³-cell regions, empty ones skipped by their count), and inside a non-empty region sphere

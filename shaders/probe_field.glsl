@@ -1,4 +1,4 @@
-// The probe field: one DDGI probe volume per SDF cascade (issue 5 items 1-4, 6, 7). Its math is
+// The probe field: one DDGI probe volume per SDF cascade. Its math is
 // one file per pass, each the single definition that the GLSL passes include and that
 // gi/probe_field_cpu.cpp includes as C++ inside a struct (the CPU reference, STYLE.md habit 9).
 // shaders/probe_field_storage.glsl includes them in dependency order:
@@ -127,7 +127,7 @@ uvec4 probeHistoryPack(vec3 mean, uint quiet, uint vigilant, uint age, bool clos
 #ifdef OBJ_FRAME
 // Whether rays of cascade-c probes may meet an object: objects are bound and some region
 // cascade >= c lists one (bits of options.x from kProbeObjectMaskShift). Otherwise the trace is
-// exactly the static-only path (issue 7 item 5).
+// exactly the static-only path.
 bool probeObjectsReach(ProbeFrame f, uint c) {
   if ((f.options.x & kProbeOptionObjects) == 0u) return false;
   uint mask = (f.options.x >> kProbeObjectMaskShift) & 15u;

@@ -8,7 +8,7 @@
 // after shaders/probe_field.glsl, shaders/sdf_trace.glsl (SDF_CASCADE defined) and
 // shaders/probe_update.glsl (PROBE_DEPTH defined).
 
-// ---- Sampling: irradiance(x, n, view) (issue 5 item 7) ---------------------------------------
+// ---- Sampling: irradiance(x, n, view) ----------------------------------------------------------
 
 // SDFDDGI's visibility (Sec. 4.2): the SDF is traced from the probe towards the receiver; a
 // surface in between makes the probe invisible (a tiny weight, crushed to nothing below). Only hit

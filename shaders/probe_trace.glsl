@@ -11,7 +11,7 @@
 // after shaders/shared/{light_layout,color_codec}.h and shaders/light_math.glsl (the sky) and,
 // with OBJ_FRAME, shaders/object_trace.glsl.
 
-// ---- Tracing and shading a probe ray (issue 5 items 3-5) -------------------------------------
+// ---- Tracing and shading a probe ray -----------------------------------------------------------
 
 struct ProbeRayHit {
   bool hit;
@@ -299,7 +299,7 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
   vec4 shaded;
   bool cells = f.bounce.y > 0u;
 #ifdef OBJ_FRAME
-  // Moving objects (issue 7 item 4; GS slides b, "Combining with Static Lighting"): the dynamic
+  // Moving objects (GS slides b, "Combining with Static Lighting"): the dynamic
   // DDA+SDF search runs only up to the static hit, cached or fresh, so static work is never
   // repeated and the hit cache keeps holding static answers only.
   if (probeObjectsReach(f, c)) {

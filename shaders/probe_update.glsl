@@ -1,4 +1,4 @@
-// Per-probe texel math of the probe update (issue 5 item 2): blending one update's rays into the
+// Per-probe texel math of the probe update: blending one update's rays into the
 // octahedral texels, and bilinear tile reads. Single definition: the probe passes include it as
 // GLSL and gi/probe_field_cpu.cpp includes it as C++ inside a struct (the CPU reference, STYLE.md
 // habit 9), like sdf_trace.glsl and probe_math.glsl. Same rules: no swizzles, no out parameters,

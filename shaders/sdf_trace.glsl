@@ -281,7 +281,7 @@ struct SdfTraceResult {
   bool hit;
   bool ranOutOfSteps;
   bool missingData;  // stopped at a page that is not resident yet: the caller falls back to a
-                     // coarser cascade from t (issue 4 "never wait")
+                     // coarser cascade from t
 };
 
 // How a trace steps and what it calls a hit. Exact traces (every pass but sampling's visibility
@@ -433,7 +433,7 @@ bool sdfInsideWindow(vec3 p) {
 }
 
 #ifdef SDF_CASCADE
-// Traversal across the cascade stack (issue 4/5): the ray is given in cascade-0 voxel units
+// Traversal across the cascade stack: the ray is given in cascade-0 voxel units
 // relative to cascade 0's minimum corner. It is traced in the finest cascade that contains it;
 // when it leaves that cascade's window, or reaches a page that is not streamed in yet, it carries
 // on from the same point in the next coarser cascade ("never wait": missing data costs detail,

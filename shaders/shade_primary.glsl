@@ -13,7 +13,7 @@
 //                         options.x == kShadeDirectCache)
 // defined.
 //
-// Moving objects (issue 7): when OBJ_FRAME is defined (object_bindings.glsl, then
+// Moving objects: when OBJ_FRAME is defined (object_bindings.glsl, then
 // object_trace.glsl before light_math.glsl: the GLSL pass), each primary ray also searches the
 // objects, but only up to its static hit (Godot SDFGI slides b, "Combining with Static
 // Lighting": the static answer bounds the dynamic search), and every shadow ray, static hit or

@@ -123,7 +123,7 @@ StreamFrameStats CascadeStack::update(const glm::dvec3& cameraWorld,
       if (!cascade.pending[page]) continue;
       glm::dvec3 centre = (glm::dvec3(cascade.bricks[page]) * 8.0 + 4.0) * v + spec.origin;
       // Finer cascades first, then nearer pages, pages in front of the camera before those behind
-      // it (issue 4 "priorities"): a page behind counts as up to twice as far.
+      // it: a page behind counts as up to twice as far.
       glm::dvec3 toPage = centre - cameraWorld;
       double distance = glm::length(toPage);
       double behind = distance > 0 ? 0.5 * (1.0 - glm::dot(toPage / distance, viewDirection)) : 0;

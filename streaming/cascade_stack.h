@@ -1,4 +1,4 @@
-// Camera-centred scrolling cascades fed from a world pack (issue 4; Godot SDFGI slides,
+// Camera-centred scrolling cascades fed from a world pack (Godot SDFGI slides,
 // "cascades" and "scrolling"). Cascade c covers 16³ pages of LOD-c bricks (128³ cells of voxel
 // v0·2^c) around the camera; all cascades share one brick atlas with a fixed slot budget.
 //

@@ -1,4 +1,4 @@
-// Per-frame streaming metrics (issue 4 "Metrics") and their summary: residency per cascade,
+// Per-frame streaming metrics and their summary: residency per cascade,
 // bytes read/decoded/uploaded, request-to-resident latency, frames with a missing page, memory.
 #pragma once
 

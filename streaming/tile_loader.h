@@ -1,4 +1,4 @@
-// The async tile loader (issue 4 "Async loader"): worker threads read, verify and decode tiles
+// The async tile loader: worker threads read, verify and decode tiles
 // off the frame thread; requests carry priorities and can be cancelled; decoded tiles live in an
 // LRU RAM cache within a byte budget; failures are retried with exponential backoff and a tile
 // that keeps failing is marked failed and reported, never treated as empty space.

@@ -29,7 +29,7 @@ constexpr const char* kHelp =
     "                          [--frames N] [--measure N] [--no-peers] [--gpu-table]\n"
     "                          [--diagnose] [--device NAME]\n"
     "\n"
-    "Run time vs error of the probe GI (issue 6). For each scene: import its triangles to a\n"
+    "Run time vs error of the probe GI. For each scene: import its triangles to a\n"
     "world pack (cached in DIR/packs), stream cascade stacks around the player, path-trace the\n"
     "reference irradiance at the visible points of the scene's views (kind NoDirectLights:\n"
     "what probes store; cached in DIR/reference), then for every configuration of the sweep\n"

@@ -1,4 +1,4 @@
-// The world pack (issue 3): a directory with manifest.json and one file per tile, written
+// The world pack: a directory with manifest.json and one file per tile, written
 // atomically, every section checksummed, brick payloads zstd-compressed.
 //
 //   WORLD/manifest.json   format "sdfstream-pack", version, PartitionSpec, bounds, source,

@@ -1,4 +1,4 @@
-// The tiled world importer (issue 3): SdfSources → a world pack (pack.h) of multi-LOD tiles
+// The tiled world importer: SdfSources → a world pack (pack.h) of multi-LOD tiles
 // (tile_builder.h), in parallel, optionally one shard of the tiles.
 #pragma once
 

@@ -1,4 +1,4 @@
-// World partition (issue 3): a world is a grid of independently loadable tiles, each holding
+// World partition: a world is a grid of independently loadable tiles, each holding
 // 8³ bricks for LOD 0..L-1, where LOD l has voxel size v0·2^l. ARCHITECTURE.md "world/".
 //
 // Index spaces: LOD l's sample (i,j,k) sits at world position origin + v0·2^l·(i,j,k), so

@@ -1,4 +1,4 @@
-// Moving objects on the GPU (issue 7; Godot SDFGI slides b, "Dynamic Objects"): the object-SDF
+// Moving objects on the GPU (Godot SDFGI slides b, "Dynamic Objects"): the object-SDF
 // atlas, the instances and the macro-region object lists, shared by the region build passes
 // (object_regions.comp), the dynamic traversal (shaders/object_trace.glsl) and their C++
 // references (gi/object_scene_cpu.cpp). One definition; sizes static_asserted below.

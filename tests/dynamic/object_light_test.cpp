@@ -1,4 +1,4 @@
-// Moving objects in the light cache (issue 7 item 6): shadow rays see objects, and relighting
+// Moving objects in the light cache: shadow rays see objects, and relighting
 // only objectShadowPages after a move gives exactly what relighting everything gives -- so the
 // cache is re-lit only where objects moved, and nowhere is stale.
 #include <algorithm>

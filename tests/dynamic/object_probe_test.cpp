@@ -1,4 +1,4 @@
-// Moving objects in the GI (issue 7 item 6 and "Must show"): an occluder moved between an
+// Moving objects in the GI: an occluder moved between an
 // emissive panel and the floor darkens the floor's irradiance within N frames and its removal
 // restores it within N frames, with no NaN and no lit probe turning black; the dynamic search
 // bounded by the hit cache's static hits gives what tracing everything afresh gives; and a

@@ -1,6 +1,6 @@
 // Macro-region object lists (object_regions.comp) against a brute-force OBB-overlap computation
 // (every region × every instance, ObjectSceneCpu), for random instance sets including objects
-// spanning many regions and objects outside every cascade (issue 7 "Must show"); plus an
+// spanning many regions and objects outside every cascade; plus an
 // independent check that needs no shared code: points sampled inside each object's grid box
 // must find the object listed in the region that holds them, and in the list of the sub-cell
 // that holds them unless the object is one of the region's wide ones.

@@ -1,7 +1,7 @@
 // The dynamic traversal (objTraceRegions: DDA over macro regions, sphere tracing each listed
 // instance's local SDF) against the brute-force nearest hit over all instances, on the GPU and
-// as the C++ reference, and against analytic ray-box intersections (issue 7 "Must show": same hit
-// object, |Δt| <= 0.5 object voxel).
+// as the C++ reference, and against analytic ray-box intersections (the same hit object, |Δt| <=
+// 0.5 object voxel).
 #include <algorithm>
 #include <cmath>
 #include <random>

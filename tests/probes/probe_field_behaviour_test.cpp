@@ -1,4 +1,4 @@
-// Issue 5's behaviour requirements of the probe field: no light leaks through one-voxel walls,
+// The probe field's behaviour requirements: no light leaks through one-voxel walls,
 // the hit cache equals fresh traces after scrolls and saves steps, probe states save work at
 // the same irradiance, long runs stay finite, bounded and deterministic, and the field follows
 // a light switch within a few frames.

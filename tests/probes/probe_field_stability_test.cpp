@@ -1,5 +1,6 @@
-// Issue 5 "Stability" and "Convergence": a long run with a moving light and camera stays finite,
-// bounded and deterministic; after a light switches off and on the field follows in a few frames.
+// Stability and convergence of the probe field: a long run with a moving light and camera stays
+// finite, bounded and deterministic; after a light switches off and on the field follows in a few
+// frames.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// The probe field (issue 5): GPU passes against their CPU reference (the same
+// The probe field: GPU passes against their CPU reference (the same
 // shaders/probe_field.glsl compiled as C++) on the streamed bunny, and the white furnace through
 // the whole chain (light cache -> probe trace -> blend -> cascade-blended sampling).
 #include <algorithm>

@@ -1,5 +1,5 @@
-// White furnace and convergence (issue 6: "Validate it: a white-furnace test against the
-// analytic value, and convergence (error ∝ 1/√samples)").
+// White furnace and convergence: the reference against the analytic value of a white furnace,
+// and its error falling as 1/√samples.
 //
 // In a closed box whose walls all emit Le and reflect with albedo ρ, the radiance is the same
 // everywhere and in every direction: L = Le + ρ·L, so L = Le / (1 − ρ), and the irradiance at any

@@ -1,4 +1,4 @@
-// Streaming under faults (issue 4 "Faults"): a tile deleted or corrupted while flying, injected
+// Streaming under faults: a tile deleted or corrupted while flying, injected
 // I/O latency, an atlas smaller than one cascade. Each must degrade gracefully with counted misses:
 // no crash, no hang, and never a page silently turned into empty space.
 #include <gtest/gtest.h>

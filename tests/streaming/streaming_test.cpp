@@ -1,4 +1,4 @@
-// Streaming invariants (issue 4): scrolling equals rebuilding, the frame never waits on I/O,
+// Streaming invariants: scrolling equals rebuilding, the frame never waits on I/O,
 // failures are reported (never turned into empty space), budgets hold, far-from-origin worlds
 // stream exactly like ones near the origin.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Sphere-traced hits through the brick cascade vs exact Embree ray casting on the source
-// triangles (issue 2: median |Δt| ≤ 0.5 voxel; hit/miss agreement ≥ 99% away from silhouettes).
+// triangles (median |Δt| ≤ 0.5 voxel; hit/miss agreement ≥ 99% away from silhouettes).
 #include <gtest/gtest.h>
 
 #include <algorithm>
