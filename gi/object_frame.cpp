@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -243,16 +242,13 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
   const std::span<const Instance> all = instances.instances();
   for (const Instance& inst : all) library.mesh(inst.mesh);  // unknown mesh: throws here
   out.instances.resize(all.size());
-  // Regions of the AABB ranges, one bit each (the mean list length's denominator).
-  using RegionBits =
-      std::array<std::uint64_t, gs::kMaxRegionCascades * gs::kRegionsPerCascade / 64>;
   struct Totals {
     std::uint64_t capacity = 0, subCapacity = 0;
     std::uint32_t cascadeMask = 0, moved = 0;
     glm::vec3 lo{1e30f}, hi{-1e30f};  // empty until an instance widens it
-    RegionBits occupied{};
-    // Per region, the instances whose AABB range touches it: its list's slots when the frame
-    // has no sub-cell lists (object_layout.h, ObjectRegionGpu::slots).
+    // Per region, the instances whose AABB range touches it: the regions occupied (the mean
+    // list length's denominator), and each list's slots when the frame has no sub-cell lists
+    // (object_layout.h, ObjectRegionGpu::slots).
     std::array<std::uint32_t, gs::kMaxRegionCascades * gs::kRegionsPerCascade> ranges{};
   };
   auto instancesInStack = [&] {
@@ -281,7 +277,6 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
                   for (int x = lo.x; x <= hi.x; ++x) {
                     const std::uint32_t r =
                         c * gs::kRegionsPerCascade + std::uint32_t(x + 8 * (y + 8 * z));
-                    t.occupied[r / 64] |= std::uint64_t(1) << (r % 64);
                     ++t.ranges[r];
                   }
             }
@@ -298,7 +293,6 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
           a.moved += b.moved;
           a.lo = glm::min(a.lo, b.lo);
           a.hi = glm::max(a.hi, b.hi);
-          for (std::size_t w = 0; w < a.occupied.size(); ++w) a.occupied[w] |= b.occupied[w];
           for (std::size_t r = 0; r < a.ranges.size(); ++r) a.ranges[r] += b.ranges[r];
           return a;
         });
@@ -323,20 +317,22 @@ void buildObjectFrame(const ObjectLibrary& library, const InstanceSet& instances
         out.wakeMs = millisecondsSince(start);
       });
   out.cascadeMask = totals.cascadeMask;
-  out.occupiedRegions = 0;
-  for (std::uint64_t w : totals.occupied) out.occupiedRegions += std::uint32_t(std::popcount(w));
+  out.occupiedRegions = std::uint32_t(std::count_if(totals.ranges.begin(), totals.ranges.end(),
+                                                    [](std::uint32_t n) { return n > 0; }));
   out.movedInstances = totals.moved;
   f.boundsMin = glm::vec4(totals.lo, 0.0f);
   f.boundsMax = glm::vec4(totals.hi, 0.0f);
-  // Slack for the GPU rounding a boundary differently from the host (the scan clamps anyway).
-  out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
   const bool longLists = double(totals.capacity) >=
                          double(settings.subListMinMeanEntries) * double(out.occupiedRegions);
   out.subListCapacity =
       longLists ? std::uint32_t(std::min<std::uint64_t>(
                       totals.subCapacity + totals.subCapacity / 8 + 64, settings.maxSubListEntries))
                 : 0u;
-  if (out.subListCapacity == 0) {
+  if (out.subListCapacity > 0) {
+    // The GPU's scan places the lists. Slack for it rounding a boundary differently from the
+    // host (it clamps anyway).
+    out.listCapacity = std::uint32_t(totals.capacity + totals.capacity / 8 + 64);
+  } else {
     // No sub-cell lists: each region's slots and start from its AABB ranges, so the GPU fills
     // the lists and the occupancy in one pass (no count, rank or scan; object_regions.comp,
     // phase 6).
