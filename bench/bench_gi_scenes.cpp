@@ -563,10 +563,11 @@ std::optional<BenchScene> loadBenchScene(const std::string& name, const fs::path
 fs::path benchScenePack(const BenchScene& scene, const fs::path& cacheDir, double* importSeconds) {
   *importSeconds = 0.0;
   if (scene.prebuiltPack) return scene.packSource;
-  // Key: the source file's identity (path, size, mtime) or, for built-in scenes, the triangles;
-  // plus everything the importer is given.
+  // Key: the importer's revision (v2: samples at the band's edge read as the band), the source
+  // file's identity (path, size, mtime) or, for built-in scenes, the triangles; plus everything
+  // the importer is given.
   std::ostringstream key;
-  key << "v1|" << scene.name << '|' << scene.voxelSize << '|' << scene.lods << '|';
+  key << "v2|" << scene.name << '|' << scene.voxelSize << '|' << scene.lods << '|';
   if (!scene.packSource.empty() && !fs::is_directory(scene.packSource)) {
     key << fs::absolute(scene.packSource).string() << '|' << fs::file_size(scene.packSource) << '|'
         << fs::last_write_time(scene.packSource).time_since_epoch().count();

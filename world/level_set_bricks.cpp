@@ -21,11 +21,20 @@ struct CoordLess {
 };
 
 // A level-set value (world units) as a stored sample: voxel units, clamped to the narrow band;
-// non-finite values read as far outside.
+// non-finite values read as far outside. A level set keeps "beyond the band" as band × voxel in
+// world units, which need not come back as the band exactly: an open mesh's shifted background
+// at 0.05 m voxels reads 2.99999976 (a third of voxel sizes from 1 cm to 2 m do so). Taken for a
+// distance just inside the band, every brick its blocks touched was stored, full of nothing
+// (72% of Sponza's LOD-0 bricks), and the coarse LODs' min-filter made a surface 1.5 voxels away
+// of each such sample (74% of LOD-1 samples). So values within kBandSnap of the band are the band.
+constexpr float kBandSnap =
+    1e-3f;  // voxels: half fp16's step at 3, so the stored value is 3 anyway
+
 float bandVoxels(float value, float invVoxel) {
   const float d = value * invVoxel;
   if (!std::isfinite(d)) return layout::kNarrowBand;
-  return std::clamp(d, -layout::kNarrowBand, layout::kNarrowBand);
+  if (std::abs(d) >= layout::kNarrowBand - kBandSnap) return std::copysign(layout::kNarrowBand, d);
+  return d;
 }
 
 // Fills brick's coord and distances; returns whether any sample is inside the narrow band.
@@ -64,7 +73,8 @@ World bricksFromLevelSet(const openvdb::FloatGrid& grid, const BrickMaterialFn& 
   }
   // Active tiles (coarser than a leaf) near the surface: every brick they cover, plus apron.
   for (auto it = grid.cbeginValueOn(); it; ++it) {
-    if (!it.isTileValue() || !(std::abs(*it) < layout::kNarrowBand * voxelSize)) continue;
+    if (!it.isTileValue() || !(std::abs(bandVoxels(*it, 1.0f / voxelSize)) < layout::kNarrowBand))
+      continue;
     openvdb::CoordBBox box;
     it.getBoundingBox(box);
     glm::ivec3 lo = floorDiv8(box.min()) - 1, hi = floorDiv8(box.max());
@@ -103,9 +113,9 @@ World bricksFromLevelSet(const openvdb::FloatGrid& grid, const BrickMaterialFn& 
 bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick, float voxelSize,
                         BrickSamples& out, std::array<float, layout::kBrickSampleCount>* own) {
   const openvdb::Coord base(brick.x * kCells, brick.y * kCells, brick.z * kCells);
-  const float bandWorld = layout::kNarrowBand * voxelSize;
+  const float invVoxel = 1.0f / voxelSize;
   // Samples 8b..8b+8 lie in the leaf at 8b and (apron) its + neighbours. Without any leaf there,
-  // each of those 8 leaf-sized blocks holds one tile or background value.
+  // each of those 8 leaf-sized blocks holds one tile or background value (voxel units here).
   bool anyLeaf = false, allFar = true;
   float block[8];
   for (int corner = 0; corner < 8 && !anyLeaf; ++corner) {
@@ -114,9 +124,8 @@ bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick
     if (acc.probeConstLeaf(c)) {
       anyLeaf = true;
     } else {
-      block[corner] = acc.getValue(c);
-      if (!std::isfinite(block[corner])) block[corner] = bandWorld;  // non-finite reads as far
-      if (!(block[corner] >= bandWorld)) allFar = false;
+      block[corner] = bandVoxels(acc.getValue(c), invVoxel);
+      if (!(block[corner] >= layout::kNarrowBand)) allFar = false;
     }
   }
   if (!anyLeaf && allFar) return false;
@@ -126,8 +135,7 @@ bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick
       for (int y = 0; y < kSamples; ++y)
         for (int x = 0; x < kSamples; ++x) {
           const int corner = (x >= kCells) | (y >= kCells) << 1 | (z >= kCells) << 2;
-          const float d =
-              std::clamp(block[corner] / voxelSize, -layout::kNarrowBand, layout::kNarrowBand);
+          const float d = block[corner];
           near = near || std::abs(d) < layout::kNarrowBand;
           const std::size_t i = std::size_t(brickSampleIndex(x, y, z));
           if (own) (*own)[i] = d;
@@ -135,7 +143,6 @@ bool unionLevelSetBrick(openvdb::FloatGrid::ConstAccessor& acc, glm::ivec3 brick
         }
     return near;
   }
-  const float invVoxel = 1.0f / voxelSize;
   bool near = false;
   for (int z = 0; z < kSamples; ++z)
     for (int y = 0; y < kSamples; ++y)

@@ -14,6 +14,7 @@
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <tbb/parallel_for.h>
+#include <glm/gtc/packing.hpp>
 
 #include "core/error.h"
 #include "shaders/shared/color_codec.h"
@@ -170,6 +171,53 @@ TEST(Partition, VdbSphereLod0MatchesGrid) {
 TEST(Partition, VdbBunnyLod0MatchesGrid) {
   SDFSTREAM_REQUIRE_SHARED_DATA("vdb/bunny-levelset.vdb");
   vdbLod0("bunny-levelset.vdb");
+}
+
+// A level set's "beyond the band" (band × voxel in world units) read back in voxels can fall a
+// hair short of the band: an open mesh's shifted background at 5 cm voxels reads 2.99999976.
+// Such samples must count as far, or every brick they touch is stored holding nothing and the
+// coarse LODs' min-filter turns each one into a surface half the band away. An open sheet at 5 cm,
+// 3 LODs: every stored brick of every LOD holds a sample inside the band, and no sample sits at
+// half the band where nothing is near.
+TEST(Partition, SamplesAtTheBandsEdgeReadAsFar) {
+  const TriangleScene sheet = test::quadSheet(1.0f, 0.013f);
+  Sources sources;
+  sources.push_back(makeMeshSource(sheet));
+  PartitionSpec spec;
+  spec.voxelSize = 0.05;
+  spec.lodCount = 3;
+  spec.tileVoxels = 64;
+  const std::vector<Tile> tiles = buildAll(sources, spec);
+  for (int lod = 0; lod < spec.lodCount; ++lod) {
+    const World w = lodWorld(tiles, spec, lod);
+    ASSERT_FALSE(w.bricks.empty());
+    std::size_t empty = 0, farSamples = 0;
+    for (const Brick& b : w.bricks) {
+      bool near = false;
+      for (std::uint16_t h : b.distance) {
+        const float d = glm::unpackHalf2x16(h).x;
+        near = near || std::abs(d) < layout::kNarrowBand;
+      }
+      empty += !near;
+      // Samples more than the band plus a voxel from the sheet (|z| in metres) are far.
+      for (int k = 0; k < int(layout::kBrickSampleCount); ++k) {
+        const double z = (b.coord.z * 8 + k / 81) * w.voxelSize;
+        if (std::abs(z - 0.013) > (layout::kNarrowBand + 1.0) * w.voxelSize)
+          farSamples += glm::unpackHalf2x16(b.distance[std::size_t(k)]).x < layout::kNarrowBand;
+      }
+    }
+    EXPECT_EQ(empty, 0u) << "LOD " << lod << ": bricks stored with no sample inside the band";
+    EXPECT_EQ(farSamples, 0u) << "LOD " << lod << ": samples far from the sheet read as near";
+  }
+  // And the single-grid path (meshToWorld) stores no empty brick either.
+  std::size_t empty = 0;
+  for (const Brick& b : meshToWorld(sheet, 0.05, {}).bricks) {
+    bool near = false;
+    for (std::uint16_t h : b.distance)
+      near = near || std::abs(glm::unpackHalf2x16(h).x) < layout::kNarrowBand;
+    empty += !near;
+  }
+  EXPECT_EQ(empty, 0u);
 }
 
 // Mesh source: LOD 0 vs the same OpenVDB level set (meshToWorld), and vs brute force.
