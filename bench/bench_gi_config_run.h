@@ -71,6 +71,9 @@ class ConfigRun {
   // run has settled: the median light-cache time of a warm full relight. The first frame's
   // relight also pays the first upload's cold caches.
   double measureRelightMs(int repeats);
+  // What relighting every resident page under the current lights asks of the light cache pass
+  // (counted on the CPU).
+  LightCacheWork lightWork() const;
 
   // A sun that moves every frame, with the light cache's relight budget of `pageBudget` pages per
   // frame (fly's default on a GPU): `warmup` frames to reach the steady state, then the median

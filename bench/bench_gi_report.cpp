@@ -431,6 +431,38 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
       md << "| " << c.config << " | " << m.residentPages << " | " << m.budget << " | "
          << fmt("%.3f", m.lightMs) << " | " << fmt("%.3f", c.lightRelightWarmMs) << " | "
          << m.stalenessFrames << " |\n";
+  bool workHeader = false;
+  for (const ConfigResult& c : s.configs) {
+    const LightCacheWork& w = c.lightWork;
+    if (w.pages == 0) continue;
+    if (!workHeader) {
+      md << "\nThe full relight's work (CPU reference, same math): surface cells, their shadow "
+            "rays and sphere-tracing steps; warp-steps = Σ over warps of 32 lanes of the longest "
+            "lane's steps, with the cells handed out as the pass does (per page, 64 lanes), as "
+            "one list over all pages, and the floor (steps / 32); lane use = floor / warp-steps."
+            "\n\n| config | pages | surface cells | shadow rays (blocked) | steps / surface cell "
+            "(median, p99, max) | steps by page cascade (cells) | warp-steps: per page / one "
+            "list / floor | lane use: per page / one list |\n|---|---|---|---|---|---|---|---|\n";
+      workHeader = true;
+    }
+    std::string byCascade;
+    for (std::size_t k = 0; k < w.stepsByCascade.size(); ++k)
+      byCascade += (k ? ", " : "") + std::to_string(k) + ": " +
+                   fmt("%.1f", w.surfaceCellsByCascade[k] ? double(w.stepsByCascade[k]) /
+                                                                double(w.surfaceCellsByCascade[k])
+                                                          : 0.0) +
+                   " (" + std::to_string(w.surfaceCellsByCascade[k]) + ")";
+    auto use = [&](std::uint64_t warpSteps) {
+      return fmt("%.2f", warpSteps ? double(w.warpStepsFloor) / double(warpSteps) : 0.0);
+    };
+    md << "| " << c.config << " | " << w.pages << " | " << w.surfaceCells << " | " << w.shadowRays
+       << " (" << w.blockedRays << ") | "
+       << fmt("%.1f", w.surfaceCells ? double(w.steps) / double(w.surfaceCells) : 0.0) << " ("
+       << w.medianCellSteps << ", " << w.p99CellSteps << ", " << w.maxCellSteps << ") | "
+       << byCascade << " | " << w.warpStepsPerPage << " / " << w.warpStepsOneList << " / "
+       << w.warpStepsFloor << " | " << use(w.warpStepsPerPage) << " / " << use(w.warpStepsOneList)
+       << " |\n";
+  }
   const PrimaryTraceTiming& p = s.primary;
   if (p.rays > 0)
     md << "\nPrimary-ray SDF traversal alone (`trace_stack`, no shading), " << s.width << "×"

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bench/bench_gi_peers.h"
+#include "gi/light_cache_work.h"
 
 namespace sdfstream::bench {
 
@@ -54,6 +55,7 @@ struct ConfigResult {
     double lightMs = 0.0;  // median light-cache ms per frame at steady state
   };
   std::vector<MovingSun> movingSun;
+  LightCacheWork lightWork;  // --gpu-table: what the full relight asks of the pass (pages 0: none)
   std::map<std::string, double> passMs;  // per probe pass
   // Work per frame (medians).
   double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;

@@ -15,7 +15,9 @@
 #include "core/stopwatch.h"
 #include "demo/frame_image.h"
 #include "gi/gi_system.h"
+#include "gi/light_cache.h"
 #include "gi/probe_math.h"
+#include "gi/scene_lights.h"
 #include "reference/flat_regions.h"
 #include "reference/irradiance_cache.h"
 #include "reference/metrics.h"
@@ -345,6 +347,11 @@ double ConfigRun::measureRelightMs(int repeats) {
   return median(std::move(ms));
 }
 
+LightCacheWork ConfigRun::lightWork() const {
+  const CascadeStackImage img = st_.stack->stackImage();
+  return lightCacheWork(img, toGpu(lights_.lights, img));
+}
+
 void ConfigRun::measureMovingSun(std::uint32_t pageBudget, int warmup, int frames,
                                  ConfigResult& r) {
   gi_.setRelightPageBudget(pageBudget);
@@ -377,6 +384,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   if (!sc.points.reference.empty()) score(sc.points, e, r);
   if (opt.gpuTable) {
     r.lightRelightWarmMs = run.measureRelightMs(5);
+    r.lightWork = run.lightWork();
     // fly's budget on a GPU (resolveDeviceBudgets) and twice and four times it; the queue settles
     // within ceil(resident / budget) frames (Sponza: up to 57 at 256 pages).
     for (std::uint32_t budget : {256u, 512u, 1024u}) run.measureMovingSun(budget, 64, 16, r);

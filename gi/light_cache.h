@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "gi/gpu_stack_scene.h"
+#include "gi/light_cache_work.h"
 #include "gi/light_relight_queue.h"
 #include "gi/object_scene.h"
 #include "gpu/buffer.h"
@@ -88,6 +89,13 @@ struct LightCellSteps {
 };
 LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::GpuLight& light,
                               std::uint32_t cascade, glm::vec3 p0,
+                              const LightCacheSettings& settings = {});
+
+// What relighting every resident page of `stack` under `lights` (cascade-0 voxels, toGpu; at
+// most kMaxLights) asks of the light cache pass, counted on the CPU with the same math
+// (gi/light_cache_work.h).
+LightCacheWork lightCacheWork(const CascadeStackImage& stack,
+                              std::span<const gpu_shared::GpuLight> lights,
                               const LightCacheSettings& settings = {});
 
 // CPU reference of the same math (TBB over pages × cells). Not thread safe; update() blocks.

@@ -33,6 +33,7 @@ struct LightCacheShader {
 #define SDF_EMISSION(i) emissionAtlas[i]
 #define SDF_CASCADE(c) cascades[c]
 #define LIGHT_AT(i) lights[i]
+#define LIGHT_COUNT_MARCH(m) countMarch(m)
 #include "shaders/sdf_trace.glsl"
 // light_math.glsl needs sdf_trace.glsl's functions: keep this order (a separate include block).
 #include "shaders/light_math.glsl"
@@ -42,6 +43,15 @@ struct LightCacheShader {
 #undef SDF_EMISSION
 #undef SDF_CASCADE
 #undef LIGHT_AT
+#undef LIGHT_COUNT_MARCH
+
+  // The shadow marches since the counters were last cleared (lightCacheWork).
+  std::uint32_t marches = 0, marchSteps = 0, blockedMarches = 0;
+  void countMarch(const LightShadowStackMarch& m) {
+    ++marches;
+    marchSteps += m.steps;
+    blockedMarches += m.blocked ? 1u : 0u;
+  }
 
   // Mirrors main() of light_cache.comp; returns false when the cell is not written.
   bool relightCell(std::uint32_t global, std::uint32_t cell, const LightCachePushConstants& pc,
@@ -108,6 +118,83 @@ LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::
   const light_detail::LightCacheShader::LightShadowRay ray = sh.lightShadowRay(light, origin);
   out.visibility = sh.sdfSoftShadowStack(origin, ray.dir, 0.0f, ray.tMax, settings.maxShadowSteps,
                                          settings.hitEpsilon, cascades, light.shape.z);
+  return out;
+}
+
+LightCacheWork lightCacheWork(const CascadeStackImage& stack,
+                              std::span<const gpu_shared::GpuLight> lights,
+                              const LightCacheSettings& settings) {
+  using gpu_shared::kBrickMaterialCount;
+  const std::uint32_t cascades = std::uint32_t(stack.params.size());
+  const std::vector<std::uint32_t> pages = lightDirtyPages(nullptr, stack, true);
+  const gpu_shared::LightCachePushConstants pc =
+      lightCachePushConstants(settings, std::uint32_t(pages.size()), std::uint32_t(lights.size()),
+                              cascades, gpu_shared::GpuSky{}, stack.voxelSize0);
+  const light_detail::LightCacheShader shader{
+      stack.pageTables.data(),     stack.distanceAtlas->data(), stack.albedoAtlas->data(),
+      stack.emissionAtlas->data(), stack.params.data(),         lights.data()};
+  // Per page: its surface cells' steps in cell order, and its rays.
+  struct PageWork {
+    std::vector<std::uint32_t> steps;
+    std::uint64_t rays = 0, blocked = 0;
+  };
+  std::vector<PageWork> work(pages.size());
+  tbb::parallel_for(std::size_t(0), pages.size(), [&](std::size_t i) {
+    light_detail::LightCacheShader sh = shader;
+    const std::uint32_t global = pages[i];
+    const std::uint32_t cascade = global / gpu_shared::kCascadePageCount;
+    const std::uint32_t slot = stack.pageTables[global] & gpu_shared::kPagePayloadMask;
+    const glm::ivec3 page =
+        sh.lightPageOfEntry(global % gpu_shared::kCascadePageCount, stack.params[cascade].toroidal);
+    for (std::uint32_t cell = 0; cell < kBrickMaterialCount; ++cell) {
+      if (lights.empty() || !sh.lightCellIsSurface(cascade, page, cell)) continue;
+      sh.marches = sh.marchSteps = sh.blockedMarches = 0;
+      sh.lightCacheCellRadiance(cascade, page, slot, cell, pc.counts.y, pc.params.x, pc.counts.w,
+                                pc.params.y, pc.counts.z);
+      work[i].steps.push_back(sh.marchSteps);
+      work[i].rays += sh.marches;
+      work[i].blocked += sh.blockedMarches;
+    }
+  });
+  LightCacheWork out;
+  out.pages = pages.size();
+  out.surfaceCellsByCascade.assign(cascades, 0);
+  out.stepsByCascade.assign(cascades, 0);
+  // Σ over consecutive groups of 32 of the group's largest value.
+  auto warpSteps = [](const std::vector<std::uint32_t>& v, std::size_t first, std::size_t stride,
+                      std::size_t end) {
+    std::uint64_t sum = 0;
+    for (std::size_t base = first; base < end; base += stride) {
+      std::uint32_t longest = 0;
+      for (std::size_t k = base; k < std::min(base + 32, end); ++k)
+        longest = std::max(longest, v[k]);
+      sum += longest;
+    }
+    return sum;
+  };
+  std::vector<std::uint32_t> all;
+  for (std::size_t i = 0; i < pages.size(); ++i) {
+    const std::vector<std::uint32_t>& st = work[i].steps;
+    const std::uint32_t cascade = pages[i] / gpu_shared::kCascadePageCount;
+    out.surfaceCells += st.size();
+    out.surfaceCellsByCascade[cascade] += st.size();
+    out.shadowRays += work[i].rays;
+    out.blockedRays += work[i].blocked;
+    for (std::uint32_t v : st) out.stepsByCascade[cascade] += v;
+    // light_cache.comp: lane l of 64 takes compacted cells l, l + 64, ...: warp w the 32 from
+    // 32 w in each round of 64.
+    out.warpStepsPerPage += warpSteps(st, 0, 64, st.size()) + warpSteps(st, 32, 64, st.size());
+    all.insert(all.end(), st.begin(), st.end());
+  }
+  out.warpStepsOneList = warpSteps(all, 0, 32, all.size());
+  for (std::uint64_t s : out.stepsByCascade) out.steps += s;
+  out.warpStepsFloor = (out.steps + 31) / 32;
+  if (!all.empty()) {
+    std::sort(all.begin(), all.end());
+    out.maxCellSteps = all.back();
+    out.medianCellSteps = all[all.size() / 2];
+    out.p99CellSteps = all[std::min(all.size() - 1, all.size() * 99 / 100)];
+  }
   return out;
 }
 

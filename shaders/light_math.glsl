@@ -122,9 +122,23 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
 // (k = GpuLight.shape.z; k == 0: hard shadows, 0 or 1 only). A ray that runs out of steps counts
 // as blocked: a shadow leaking light through a wall is worse than one slightly too dark, and such
 // rays crawl along surfaces, where n·L is small anyway.
-// As sdfSoftShadowStack, starting in cascade `firstCascade` (a primary hit's own cascade).
-float sdfSoftShadowStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
-                             float hitEpsilon, uint firstCascade, uint cascadeCount, float k) {
+// The walk returns its work too: the steps taken over all cascades and the cascade it ended in
+// (the light cache's work census, gi/light_cache.h, counts with it).
+struct LightShadowStackMarch {
+  float visibility;
+  uint steps;
+  uint lastCascade;
+  bool blocked;  // a hit or out of steps
+};
+
+LightShadowStackMarch lightShadowStackMarch(vec3 origin0, vec3 dir, float tMin0, float tMax0,
+                                            uint maxSteps, float hitEpsilon, uint firstCascade,
+                                            uint cascadeCount, float k) {
+  LightShadowStackMarch m;
+  m.visibility = 1.0f;
+  m.steps = 0u;
+  m.lastCascade = firstCascade;
+  m.blocked = false;
   float visibility = 1.0f;
   float t0 = tMin0;
   uint steps = 0u;
@@ -140,8 +154,14 @@ float sdfSoftShadowStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, u
     LightShadowMarch r = lightShadowCascade(o, dir, t0 / scale, tMax0 / scale, budget, hitEpsilon,
                                             k, cp.toroidal, escape);
     steps += r.steps;
+    m.steps = steps;
+    m.lastCascade = c;
     visibility = min(visibility, r.visibility);
-    if (r.hit || r.ranOutOfSteps) return 0.0f;
+    if (r.hit || r.ranOutOfSteps) {
+      m.visibility = 0.0f;
+      m.blocked = true;
+      return m;
+    }
     fellBack = r.missing;
     if (r.missing) {
       t0 = r.t * scale;  // same point, one cascade coarser ("never wait")
@@ -153,7 +173,19 @@ float sdfSoftShadowStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, u
       t0 = max(t0, exitT0);
     }
   }
-  return clamp(visibility, 0.0f, 1.0f);
+  m.visibility = clamp(visibility, 0.0f, 1.0f);
+  return m;
+}
+
+// As sdfSoftShadowStack, starting in cascade `firstCascade` (a primary hit's own cascade).
+float sdfSoftShadowStackFrom(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,
+                             float hitEpsilon, uint firstCascade, uint cascadeCount, float k) {
+  LightShadowStackMarch m = lightShadowStackMarch(origin0, dir, tMin0, tMax0, maxSteps,
+                                                  hitEpsilon, firstCascade, cascadeCount, k);
+#ifdef LIGHT_COUNT_MARCH
+  LIGHT_COUNT_MARCH(m);  // the CPU's work census (gi/light_cache.h, lightCacheWork)
+#endif
+  return m.visibility;
 }
 
 float sdfSoftShadowStack(vec3 origin0, vec3 dir, float tMin0, float tMax0, uint maxSteps,

@@ -157,5 +157,46 @@ TEST(LightAnalytic, SkyIsHorizonBelowAndZenithStraightUp) {
   EXPECT_NEAR(mid.z, 0.8f + (1.0f - 0.8f) * s, 1e-6f);
 }
 
+// The full relight's work census (lightCacheWork) against the same cells taken one by one
+// (lightCellSteps, the diagnosis path): surface cells, the shadow rays of those facing the sun,
+// and which of them are blocked; the warp-step counts can only be at or above their floor.
+TEST(LightCacheWork, CountsTheCellsAndRaysOfEveryResidentPage) {
+  const AnalyticScene scene(
+      [](glm::vec3 p) {
+        return std::min(test::sdFloor(p), test::sdBox(p, {56, 40, 56}, {72, 60, 72}));
+      },
+      kAlbedo);
+  // Hard shadows: a march's visibility is 0 exactly when it is blocked.
+  const gpu_shared::GpuLight sun = test::sunLight({0.5f, 0.7f, 0.3f}, 2.0f);
+  const std::vector<gpu_shared::GpuLight> lights = {sun};
+  const LightCacheWork work = lightCacheWork(scene.image, lights);
+  std::uint64_t surface = 0, rays = 0, blocked = 0;
+  const std::vector<std::uint32_t> pages = scene.residentPages();
+  for (std::uint32_t global : pages)
+    for (std::uint32_t cell = 0; cell < gpu_shared::kBrickMaterialCount; ++cell) {
+      const glm::ivec3 page(int(global % 16), int(global / 16 % 16), int(global / 256));
+      const glm::vec3 centre = glm::vec3(page * 8) + AnalyticScene::cellOffset(cell);
+      const LightCellSteps st = lightCellSteps(scene.image, sun, 0, centre);
+      if (!st.inBand) continue;
+      ++surface;
+      if (st.cosine <= 0.0f) continue;
+      ++rays;
+      blocked += st.visibility <= 0.0f;
+    }
+  EXPECT_EQ(work.pages, pages.size());
+  EXPECT_EQ(work.surfaceCells, surface);
+  EXPECT_EQ(work.shadowRays, rays);
+  EXPECT_EQ(work.blockedRays, blocked);
+  EXPECT_GT(blocked, 100u);          // the box shadows part of the floor
+  EXPECT_GT(rays - blocked, 1000u);  // and the sun reaches the rest
+  ASSERT_EQ(work.stepsByCascade.size(), 1u);
+  EXPECT_EQ(work.stepsByCascade[0], work.steps);
+  EXPECT_GE(work.steps, work.shadowRays);
+  EXPECT_EQ(work.warpStepsFloor, (work.steps + 31) / 32);
+  EXPECT_GE(work.warpStepsOneList, work.warpStepsFloor);
+  EXPECT_GE(work.warpStepsPerPage, work.warpStepsFloor);
+  EXPECT_LE(work.medianCellSteps, work.p99CellSteps);
+  EXPECT_LE(work.p99CellSteps, work.maxCellSteps);
+}
 }  // namespace
 }  // namespace sdfstream
