@@ -165,11 +165,11 @@ TEST(CliGpuFaults, TooLittleDeviceMemoryForTheAtlasDegradesAndIsCounted) {
 TEST(CliGpuFaults, RunningOutOfDeviceMemoryMidRunShrinksTheAtlasAndFinishes) {
   const fs::path dir = smallWorld("cli-device-oom-mid-run");
   const std::string world = (dir / "world").string();
-  // A 6 MiB atlas holds the ~1,000 bricks this flight needs, half of it does not: after the
-  // shrink some pages must count as atlas-full.
+  // A 3 MiB atlas holds the 380 bricks this flight needs (2 MiB hold 377), half of it does not:
+  // after the shrink some pages must count as atlas-full.
   const std::string args =
       " --frames 6 --width 32 --height 24 --no-pacing --objects 0 "
-      "--atlas-mib 6 --probe-budget 4096";
+      "--atlas-mib 3 --probe-budget 4096";
   const test::CliResult full = fly(world, dir / "full", args);
   ASSERT_EQ(full.exitCode, 0) << full.err;
   ASSERT_EQ(atlasFullPages(dir / "full" / "metrics.csv"), 0u) << full.err;
