@@ -1,5 +1,6 @@
 #include "bench/bench_gi_configs.h"
 
+#include <string>
 #include <utility>
 
 namespace sdfstream::bench {
@@ -119,9 +120,12 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
       // Where relocation leaves a probe and where the self-shadow bias moves the receiver: both
       // trade light between scenes (docs/DECISIONS.md, "Relocation clearance and self-shadow
       // bias"), so the sweep keeps a row for each.
-      s = def;
-      s.relocationMinDistance = 0.1f;
-      add("clearance-0.1", "ours", "relocation clearance 0.1 spacing", s, cascades, true);
+      for (const char* clearance : {"0.1", "0.25", "0.35"}) {
+        s = def;
+        s.relocationMinDistance = std::stof(clearance);
+        add(std::string("clearance-") + clearance, "ours",
+            std::string("relocation clearance ") + clearance + " spacing", s, cascades, true);
+      }
       s = def;
       s.selfShadowBias = 0.25f;
       add("self-shadow-bias-0.25", "ours", "self-shadow bias 0.25", s, cascades, true);
