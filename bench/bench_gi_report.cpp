@@ -438,13 +438,11 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
     if (!workHeader) {
       md << "\nThe full relight's work (CPU reference, same math): surface cells, their shadow "
             "rays and sphere-tracing steps; warp-steps = Σ over warps of 32 lanes of the longest "
-            "lane's steps, with the cells handed out as the pass does (per page, 64 lanes, the "
-            "cells that march), as before it (per page, every surface cell), as one list over "
-            "all pages, and the floor (steps / 32); lane use = floor / warp-steps."
+            "lane's steps, with the cells handed out as the pass does (per page, 64 lanes), as "
+            "one list over all pages, and the floor (steps / 32); lane use = floor / warp-steps."
             "\n\n| config | pages | surface cells | shadow rays (blocked) | steps / surface cell "
-            "(median, p99, max) | steps by page cascade (cells) | warp-steps: the pass / every "
-            "surface cell / one list / floor | lane use: the pass / every surface cell / one list "
-            "|\n|---|---|---|---|---|---|---|---|\n";
+            "(median, p99, max) | steps by page cascade (cells) | warp-steps: per page / one "
+            "list / floor | lane use: per page / one list |\n|---|---|---|---|---|---|---|---|\n";
       workHeader = true;
     }
     std::string byCascade;
@@ -461,9 +459,9 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
        << " (" << w.blockedRays << ") | "
        << fmt("%.1f", w.surfaceCells ? double(w.steps) / double(w.surfaceCells) : 0.0) << " ("
        << w.medianCellSteps << ", " << w.p99CellSteps << ", " << w.maxCellSteps << ") | "
-       << byCascade << " | " << w.warpStepsPerPage << " / " << w.warpStepsEverySurfaceCell << " / "
-       << w.warpStepsOneList << " / " << w.warpStepsFloor << " | " << use(w.warpStepsPerPage)
-       << " / " << use(w.warpStepsEverySurfaceCell) << " / " << use(w.warpStepsOneList) << " |\n";
+       << byCascade << " | " << w.warpStepsPerPage << " / " << w.warpStepsOneList << " / "
+       << w.warpStepsFloor << " | " << use(w.warpStepsPerPage) << " / " << use(w.warpStepsOneList)
+       << " |\n";
   }
   const PrimaryTraceTiming& p = s.primary;
   if (p.rays > 0)

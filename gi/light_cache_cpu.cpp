@@ -133,10 +133,9 @@ LightCacheWork lightCacheWork(const CascadeStackImage& stack,
   const light_detail::LightCacheShader shader{
       stack.pageTables.data(),     stack.distanceAtlas->data(), stack.albedoAtlas->data(),
       stack.emissionAtlas->data(), stack.params.data(),         lights.data()};
-  // Per page: its surface cells' steps in cell order (all of them, and those light_cache.comp
-  // lists for its marching warps), and its rays.
+  // Per page: its surface cells' steps in cell order, and its rays.
   struct PageWork {
-    std::vector<std::uint32_t> steps, marching;
+    std::vector<std::uint32_t> steps;
     std::uint64_t rays = 0, blocked = 0;
   };
   std::vector<PageWork> work(pages.size());
@@ -153,9 +152,6 @@ LightCacheWork lightCacheWork(const CascadeStackImage& stack,
       sh.lightCacheCellRadiance(cascade, page, slot, cell, pc.counts.y, pc.params.x, pc.counts.w,
                                 pc.params.y, pc.counts.z);
       work[i].steps.push_back(sh.marchSteps);
-      if (sh.lightCellMarches(sh.lightCellSurface(cascade, page, cell), pc.counts.y, pc.params.x,
-                              pc.counts.z))
-        work[i].marching.push_back(sh.marchSteps);
       work[i].rays += sh.marches;
       work[i].blocked += sh.blockedMarches;
     }
@@ -187,10 +183,7 @@ LightCacheWork lightCacheWork(const CascadeStackImage& stack,
     for (std::uint32_t v : st) out.stepsByCascade[cascade] += v;
     // light_cache.comp: lane l of 64 takes compacted cells l, l + 64, ...: warp w the 32 from
     // 32 w in each round of 64.
-    const std::vector<std::uint32_t>& mv = work[i].marching;
-    out.warpStepsPerPage += warpSteps(mv, 0, 64, mv.size()) + warpSteps(mv, 32, 64, mv.size());
-    out.warpStepsEverySurfaceCell +=
-        warpSteps(st, 0, 64, st.size()) + warpSteps(st, 32, 64, st.size());
+    out.warpStepsPerPage += warpSteps(st, 0, 64, st.size()) + warpSteps(st, 32, 64, st.size());
     all.insert(all.end(), st.begin(), st.end());
   }
   out.warpStepsOneList = warpSteps(all, 0, 32, all.size());

@@ -20,13 +20,10 @@ struct LightCacheWork {
   std::uint32_t medianCellSteps = 0, p99CellSteps = 0;
   // Surface cells and their steps by the cascade of their page.
   std::vector<std::uint64_t> surfaceCellsByCascade, stepsByCascade;
-  // Warp-steps: Σ over warps of the longest lane's steps, when the cells are handed to lanes as
-  // light_cache.comp does (per page, the cells that march a shadow ray, 64 lanes in two warps, in
-  // cell order); the same with every surface cell listed (the pass before it left cells that
-  // march nothing out of the list); every surface cell as one list over all pages (page after
-  // page, 32 a warp); and the floor (steps / 32).
-  std::uint64_t warpStepsPerPage = 0, warpStepsEverySurfaceCell = 0, warpStepsOneList = 0,
-                warpStepsFloor = 0;
+  // Warp-steps: Σ over warps of the longest lane's steps, when the surface cells are handed to
+  // lanes as light_cache.comp does (per page, 64 lanes in two warps, in cell order), as one list
+  // over all pages (page after page, 32 a warp), and the floor (steps / 32).
+  std::uint64_t warpStepsPerPage = 0, warpStepsOneList = 0, warpStepsFloor = 0;
 };
 
 }  // namespace sdfstream

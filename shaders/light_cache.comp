@@ -5,14 +5,11 @@
 // atlas at slot * 512 + cell, the indexing of the albedo and emission atlas. Pages not listed
 // keep their cached light (Godot SDFGI slides, "Caching light hits": a static light texture
 // computed once and updated in dirty regions).
-// Only the surface cells that a shadow-casting light reaches (lightCellMarches: about half of the
-// ~10-20% of a page within the surface band) trace shadow rays, and they are scattered through
-// the page: a thread per cell left most lanes of a warp idle while one lane marched 256 steps.
-// So the workgroup first lights every other cell (emission, or a surface cell no light reaches:
-// no march) and compacts the marching cells with their surface points into shared memory, then
-// lights them 64 at a time with full warps. Each cell's value is lightCacheCellRadiance's: only
-// the order of work changed (listing every surface cell, as before, left the facing-away ones
-// idling in the marching warps: `bench gi --gpu-table` counts both mappings' warp-steps).
+// Only the surface cells (lightCellIsSurface, ~10-20% of a page) trace shadow rays, and they are
+// scattered through the page: a thread per cell left most lanes of a warp idle while one lane
+// marched 256 steps. So the workgroup first writes every other cell's emission and compacts the
+// surface cells into shared memory, then lights them 64 at a time with full warps. Each cell's
+// value is lightCacheCellRadiance's, as before: only the order of work changed.
 // Bindings: 0 page list (global page-table indices, cascade * 4096 + toroidal entry), 1 lights,
 // 2 light atlas (written), 3 page tables, 4 distance atlas (or,
 // where specialization constant 0 says so, the corner atlas: the same distances by cell), 5 albedo
@@ -53,8 +50,6 @@ layout(push_constant) uniform Push { LightCachePushConstants pc; };
 #include "shaders/light_math.glsl"
 
 shared uint surfaceCells[kBrickMaterialCount];
-shared vec3 surfaceNormals[kBrickMaterialCount];
-shared vec3 surfacePoints[kBrickMaterialCount];
 shared uint surfaceCount;
 
 void main() {
@@ -72,33 +67,19 @@ void main() {
   uint slot = entry & kPagePayloadMask;
   ivec3 page = lightPageOfEntry(global % kCascadePageCount, cascades[cascade].toroidal);
   for (uint cell = lane; cell < kBrickMaterialCount; cell += gl_WorkGroupSize.x) {
-    uint m = slot * kBrickMaterialCount + cell;
-    // As lightCacheCellRadiance, split where a shadow ray would be marched.
-    LightCellSurface surface;
-    surface.surface = false;
-    if (pc.counts.y > 0u) surface = lightCellSurface(cascade, page, cell);
-    if (lightCellMarches(surface, pc.counts.y, pc.params.x, pc.counts.z)) {
-      uint i = atomicAdd(surfaceCount, 1u);
-      surfaceCells[i] = cell;
-      surfaceNormals[i] = surface.n;
-      surfacePoints[i] = surface.p0;
-    } else {
-      lightAtlas[m] = packRgb9e5(surface.surface
-                                     ? lightCacheSurfaceRadiance(m, surface, pc.counts.y,
-                                                                 pc.params.x, pc.counts.w,
-                                                                 pc.params.y, pc.counts.z)
-                                     : unpackRgb9e5(SDF_EMISSION(m)));
-    }
+    if (pc.counts.y > 0u && lightCellIsSurface(cascade, page, cell))
+      surfaceCells[atomicAdd(surfaceCount, 1u)] = cell;
+    else  // emission only: lightCacheCellRadiance returns before any shadow ray
+      lightAtlas[slot * kBrickMaterialCount + cell] =
+          packRgb9e5(lightCacheCellRadiance(cascade, page, slot, cell, pc.counts.y, pc.params.x,
+                                            pc.counts.w, pc.params.y, pc.counts.z));
   }
   barrier();
   uint count = surfaceCount;
   for (uint i = lane; i < count; i += gl_WorkGroupSize.x) {
-    uint m = slot * kBrickMaterialCount + surfaceCells[i];
-    LightCellSurface surface;
-    surface.surface = true;
-    surface.n = surfaceNormals[i];
-    surface.p0 = surfacePoints[i];
-    lightAtlas[m] = packRgb9e5(lightCacheSurfaceRadiance(m, surface, pc.counts.y, pc.params.x,
-                                                         pc.counts.w, pc.params.y, pc.counts.z));
+    uint cell = surfaceCells[i];
+    vec3 radiance = lightCacheCellRadiance(cascade, page, slot, cell, pc.counts.y, pc.params.x,
+                                           pc.counts.w, pc.params.y, pc.counts.z);
+    lightAtlas[slot * kBrickMaterialCount + cell] = packRgb9e5(radiance);
   }
 }

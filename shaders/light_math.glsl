@@ -232,26 +232,20 @@ LightShadowRay lightShadowRay(GpuLight l, vec3 origin) {
   return r;
 }
 
-// What light l brings to surface point p0 (cascade-0 voxels, unit normal n) before any shadow:
-// the unit direction towards it and intensity · cosine · attenuation (· the spot's window);
-// scalar <= 0 where it cannot reach (facing away, outside the cone or the range, or on the light).
-struct LightArrival {
-  vec3 toLight;
-  float scalar;
-};
-
-LightArrival lightArrival(GpuLight l, vec3 p0, vec3 n, float voxelSize0) {
-  LightArrival a;
-  a.scalar = 0.0f;
+// As lightIrradiance, with the shadow ray starting at least minOffset (cascade-0 voxels) off
+// the surface: a moving object's card texel (card_light.glsl) starts two of its own grid voxels
+// out, so its own SDF does not shadow it.
+vec3 lightIrradianceOffset(GpuLight l, vec3 p0, vec3 n, float minOffset, float voxelSize0,
+                           uint maxSteps, float hitEpsilon, uint cascadeCount) {
   uint type = uint(l.positionType.w + 0.5f);
   vec3 lightPos = vec3(l.positionType);
-  a.toLight = normalize(vec3(l.direction));
+  vec3 toLight = normalize(vec3(l.direction));
   float attenuation = 1.0f;
   if (type != kLightSun) {
     vec3 delta = lightPos - p0;
     float dist = length(delta);  // voxels
-    if (dist <= 0.0f) return a;
-    a.toLight = delta / dist;
+    if (dist <= 0.0f) return vec3(0.0f);
+    toLight = delta / dist;
     float metres = max(dist, 0.5f) * voxelSize0;
     attenuation = 1.0f / (metres * metres);
     float range = l.shape.y;
@@ -262,24 +256,10 @@ LightArrival lightArrival(GpuLight l, vec3 p0, vec3 n, float voxelSize0) {
       attenuation *= w * w;
     }
     if (type == kLightSpot)
-      attenuation *= lightSmoothWindow(l.direction.w, l.shape.x, dot(-a.toLight, vec3(l.direction)));
+      attenuation *= lightSmoothWindow(l.direction.w, l.shape.x, dot(-toLight, vec3(l.direction)));
   }
-  float cosine = max(dot(n, a.toLight), 0.0f);
-  a.scalar = l.colorIntensity.w * cosine * attenuation;
-  return a;
-}
-
-// Whether lightIrradianceOffset marches a shadow ray for l at p0: l casts shadows and reaches p0.
-bool lightMarches(GpuLight l, vec3 p0, vec3 n, float voxelSize0, uint cascadeCount) {
-  return l.shape.w > 0.5f && cascadeCount > 0u && lightArrival(l, p0, n, voxelSize0).scalar > 0.0f;
-}
-
-// As lightIrradiance, with the shadow ray starting at least minOffset (cascade-0 voxels) off
-// the surface: a moving object's card texel (card_light.glsl) starts two of its own grid voxels
-// out, so its own SDF does not shadow it.
-vec3 lightIrradianceOffset(GpuLight l, vec3 p0, vec3 n, float minOffset, float voxelSize0,
-                           uint maxSteps, float hitEpsilon, uint cascadeCount) {
-  float scalar = lightArrival(l, p0, n, voxelSize0).scalar;
+  float cosine = max(dot(n, toLight), 0.0f);
+  float scalar = l.colorIntensity.w * cosine * attenuation;
   if (!(scalar > 0.0f)) return vec3(0.0f);  // facing away, outside the cone or the range
   if (l.shape.w > 0.5f && cascadeCount > 0u) {
     uint c = lightFinestCascade(p0, cascadeCount);
@@ -329,51 +309,6 @@ bool lightCellIsSurface(uint cascade, ivec3 page, uint cell) {
 }
 
 #ifdef LIGHT_AT
-// The surface point a surface cell is lit at: centre - n·d with the cascade's SDF d and normal n
-// at the centre (cascade-0 voxels); surface = false for cells outside kLightSurfaceBand.
-struct LightCellSurface {
-  bool surface;
-  vec3 n;
-  vec3 p0;
-};
-
-LightCellSurface lightCellSurface(uint cascade, ivec3 page, uint cell) {
-  LightCellSurface r;
-  r.surface = false;
-  r.n = vec3(0.0f, 1.0f, 0.0f);
-  r.p0 = vec3(0.0f);
-  CascadeTraceParams cp = SDF_CASCADE(cascade);
-  vec3 centre = lightCellCentre(page, cell);
-  SdfSample s = sdfSampleCascade(centre, cp.toroidal);
-  if (!lightSampleIsSurface(s)) return r;
-  r.surface = true;
-  r.n = sdfNearNormal(centre, cp.toroidal);
-  SDF_PRECISE vec3 p = centre - r.n * s.distance;
-  SDF_PRECISE vec3 p0 = vec3(cp.offsetScale) + p * cp.offsetScale.w;
-  r.p0 = p0;
-  return r;
-}
-
-// Whether lighting surface cell s marches a shadow ray for any of the lights.
-bool lightCellMarches(LightCellSurface s, uint lightCount, float voxelSize0, uint cascadeCount) {
-  if (!s.surface) return false;
-  for (uint i = 0u; i < lightCount; ++i)
-    if (lightMarches(LIGHT_AT(i), s.p0, s.n, voxelSize0, cascadeCount)) return true;
-  return false;
-}
-
-// lightCacheCellRadiance of a cell whose surface point is known (s.surface), material voxel m.
-vec3 lightCacheSurfaceRadiance(uint m, LightCellSurface s, uint lightCount, float voxelSize0,
-                               uint maxSteps, float hitEpsilon, uint cascadeCount) {
-  vec3 emission = unpackRgb9e5(SDF_EMISSION(m));
-  vec3 irradiance = vec3(0.0f);
-  for (uint i = 0u; i < lightCount; ++i)
-    irradiance +=
-        lightIrradiance(LIGHT_AT(i), s.p0, s.n, voxelSize0, maxSteps, hitEpsilon, cascadeCount);
-  vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(SDF_ALBEDO(m))));
-  return emission + albedo * irradiance * kLightInvPi;
-}
-
 // Outgoing Lambertian radiance of material cell `cell` of the resident page `page` of cascade
 // `cascade` held in atlas slot `slot`: emission + albedo/π · Σ lightIrradiance, the lights
 // evaluated at the surface point nearest the cell centre (centre - n·d, the cascade's SDF d and
@@ -383,10 +318,20 @@ vec3 lightCacheSurfaceRadiance(uint m, LightCellSurface s, uint lightCount, floa
 vec3 lightCacheCellRadiance(uint cascade, ivec3 page, uint slot, uint cell, uint lightCount,
                             float voxelSize0, uint maxSteps, float hitEpsilon, uint cascadeCount) {
   uint m = slot * kBrickMaterialCount + cell;
-  if (lightCount == 0u) return unpackRgb9e5(SDF_EMISSION(m));
-  LightCellSurface s = lightCellSurface(cascade, page, cell);
-  if (!s.surface) return unpackRgb9e5(SDF_EMISSION(m));
-  return lightCacheSurfaceRadiance(m, s, lightCount, voxelSize0, maxSteps, hitEpsilon,
-                                   cascadeCount);
+  vec3 emission = unpackRgb9e5(SDF_EMISSION(m));
+  if (lightCount == 0u) return emission;
+  CascadeTraceParams cp = SDF_CASCADE(cascade);
+  vec3 centre = lightCellCentre(page, cell);
+  SdfSample s = sdfSampleCascade(centre, cp.toroidal);
+  if (!lightSampleIsSurface(s)) return emission;
+  vec3 n = sdfNearNormal(centre, cp.toroidal);
+  SDF_PRECISE vec3 p = centre - n * s.distance;
+  SDF_PRECISE vec3 p0 = vec3(cp.offsetScale) + p * cp.offsetScale.w;
+  vec3 irradiance = vec3(0.0f);
+  for (uint i = 0u; i < lightCount; ++i)
+    irradiance +=
+        lightIrradiance(LIGHT_AT(i), p0, n, voxelSize0, maxSteps, hitEpsilon, cascadeCount);
+  vec3 albedo = lightSrgbToLinear(vec3(unpackAlbedo(SDF_ALBEDO(m))));
+  return emission + albedo * irradiance * kLightInvPi;
 }
 #endif  // LIGHT_AT

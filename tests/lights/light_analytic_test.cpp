@@ -195,9 +195,6 @@ TEST(LightCacheWork, CountsTheCellsAndRaysOfEveryResidentPage) {
   EXPECT_EQ(work.warpStepsFloor, (work.steps + 31) / 32);
   EXPECT_GE(work.warpStepsOneList, work.warpStepsFloor);
   EXPECT_GE(work.warpStepsPerPage, work.warpStepsFloor);
-  // Leaving the cells that march nothing out of the marching warps never adds warp-steps, and
-  // here (a floor half in the box's shadow, the box's faces turned from the sun) it saves some.
-  EXPECT_LT(work.warpStepsPerPage, work.warpStepsEverySurfaceCell);
   EXPECT_LE(work.medianCellSteps, work.p99CellSteps);
   EXPECT_LE(work.p99CellSteps, work.maxCellSteps);
 }
