@@ -122,12 +122,11 @@ LightShadowMarch lightShadowCascade(vec3 origin, vec3 dir, float tMin, float tMa
 // (k = GpuLight.shape.z; k == 0: hard shadows, 0 or 1 only). A ray that runs out of steps counts
 // as blocked: a shadow leaking light through a wall is worse than one slightly too dark, and such
 // rays crawl along surfaces, where n·L is small anyway.
-// The walk returns its work too: the steps taken over all cascades and the cascade it ended in
-// (the light cache's work census, gi/light_cache.h, counts with it).
+// The walk returns its work too: the steps taken over all cascades (the light cache's work census,
+// gi/light_cache.h, counts with it).
 struct LightShadowStackMarch {
   float visibility;
   uint steps;
-  uint lastCascade;
   bool blocked;  // a hit or out of steps
 };
 
@@ -137,7 +136,6 @@ LightShadowStackMarch lightShadowStackMarch(vec3 origin0, vec3 dir, float tMin0,
   LightShadowStackMarch m;
   m.visibility = 1.0f;
   m.steps = 0u;
-  m.lastCascade = firstCascade;
   m.blocked = false;
   float visibility = 1.0f;
   float t0 = tMin0;
@@ -155,7 +153,6 @@ LightShadowStackMarch lightShadowStackMarch(vec3 origin0, vec3 dir, float tMin0,
                                             k, cp.toroidal, escape);
     steps += r.steps;
     m.steps = steps;
-    m.lastCascade = c;
     visibility = min(visibility, r.visibility);
     if (r.hit || r.ranOutOfSteps) {
       m.visibility = 0.0f;

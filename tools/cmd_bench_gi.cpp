@@ -74,7 +74,9 @@ constexpr const char* kHelp =
     "                 normal (default 0.5: on the SDF surface of an open sheet)\n"
     "  --gpu-table    only the per-pass time table of scripts/bench-gpu (SDFDDGI's probe count,\n"
     "                 our default, plain DDGI, the default at half and twice its ray budget)\n"
-    "                 on the given scenes; writes DIR/gpu-table.md\n"
+    "                 on the given scenes, with the full light relight's work counted on the\n"
+    "                 CPU (surface cells, shadow-ray steps, warp-steps); writes\n"
+    "                 DIR/gpu-table-SCENE.md and .csv\n"
     "  --rounds N     with --gpu-table: run the configurations N times in turn and keep each\n"
     "                 one's fastest round (a GPU's clocks can change within a run; default 1)\n";
 

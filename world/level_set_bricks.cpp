@@ -27,8 +27,8 @@ struct CoordLess {
 // distance just inside the band, every brick its blocks touched was stored, full of nothing
 // (72% of Sponza's LOD-0 bricks), and the coarse LODs' min-filter made a surface 1.5 voxels away
 // of each such sample (74% of LOD-1 samples). So values within kBandSnap of the band are the band.
-constexpr float kBandSnap =
-    1e-3f;  // voxels: half fp16's step at 3, so the stored value is 3 anyway
+// In voxels: half fp16's step at 3, so the stored value was 3 anyway.
+constexpr float kBandSnap = 1e-3f;
 
 float bandVoxels(float value, float invVoxel) {
   const float d = value * invVoxel;
