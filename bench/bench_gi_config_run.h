@@ -130,6 +130,14 @@ class ConfigRun {
   // to surfaces; as low as the receivers': it is regional, in what the nearby probes gather.
   void diagnoseAwayFromSurfaces(SceneReport& into);
 
+  // --diagnose: what a near-field gather from the receivers would read (an oracle on the
+  // triangles, no GPU code behind it): per receiver (up to 512) K cosine-distributed rays traced
+  // by Embree to R; a hit within R brings its emission + albedo/pi x (its delta lights + the
+  // irradiance there: our field's, or the reference's), a miss the field's irradiance at the
+  // ray's end with the ray's direction for normal, over pi (ours, or the reference's). Against
+  // the GI's own sampling of the same receivers, for R of 0.5, 1 and 2 probe spacings.
+  void diagnoseNearField(SceneReport& into);
+
   // --diagnose: the receivers of each sampling cascade k, sampled from k alone and from each
   // coarser cascade alone: whether another cascade's probes would serve them better.
   void diagnoseCascadesAlone(SceneReport& into);

@@ -83,6 +83,21 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
   add("plain-ddgi", "plain-ddgi", "", plainDdgi(), cascades, !quick);
   add("half-res", "ours", kHalfResolutionChange, def, cascades, false);
   out.back().halfResolution = true;
+  // The near-field gather (shaders/probe_near_field.glsl): rays per receiver to one probe
+  // spacing, and to half of one.
+  for (std::uint32_t rays : {16u, 64u}) {
+    ProbeFieldSettings s = def;
+    s.nearFieldRays = rays;
+    add("near-field-" + std::to_string(rays), "ours",
+        "near-field gather, " + std::to_string(rays) + " rays to 1 spacing", s, cascades, false);
+  }
+  {
+    ProbeFieldSettings s = def;
+    s.nearFieldRays = 16;
+    s.nearFieldReach = 0.5f;
+    add("near-field-16-half", "ours", "near-field gather, 16 rays to 0.5 spacing", s, cascades,
+        false);
+  }
   const std::vector<std::uint32_t> rays =
       quick ? std::vector<std::uint32_t>{32} : std::vector<std::uint32_t>{32, 64, 256};
   for (std::uint32_t r : rays) {
@@ -212,6 +227,15 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
        true}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   for (GiConfig& c : bounceCellConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
+  // The near-field gather's cost, at full and half resolution.
+  for (const bool half : {false, true}) {
+    ProbeFieldSettings s = def;
+    s.nearFieldRays = 16;
+    out.push_back(
+        {half ? "near-field-16-half-res" : "near-field-16", "ours",
+         std::string("near-field gather, 16 rays to 1 spacing") + (half ? ", half resolution" : ""),
+         s, scene.defaultCascades, false, "default", half});
+  }
   return out;
 }
 

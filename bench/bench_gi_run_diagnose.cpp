@@ -107,6 +107,7 @@ void ConfigRun::diagnoseRays(SceneReport& into) {
   diagnoseProbeIrradiance(into);
   diagnoseCascadesAlone(into);
   diagnoseAwayFromSurfaces(into);
+  diagnoseNearField(into);
 }
 
 // One frame's probe rays (one more step), each against the same ray on the triangles under
@@ -627,6 +628,152 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
                 refHere > 0 ? giHere / refHere : 0.0, m, refFirst > 0 ? ideal / refFirst : 0.0,
                 ideal > 0 ? giFirst / ideal : 0.0, idealRelMse, giRelMse);
   std::printf("    diagnose:%s", s + 1);
+  into.diagnosis += s;
+}
+
+// --diagnose: a near-field gather from the receivers, as an oracle on the triangles
+// (bench_gi_config_run.h). Radiance along a ray that leaves R free is taken as the irradiance at
+// the ray's end facing back along the ray, over pi (exact where the radiance there is uniform).
+void ConfigRun::diagnoseNearField(SceneReport& into) {
+  if (sc_.points.reference.empty()) return;
+  const CascadeStackImage img = st_.stack->stackImage();
+  const probe::ProbeFieldFrame f = frameConstants(img);
+  const std::vector<std::uint32_t> picks = samplingCascades(f.volumes, sc_.queries);
+  const std::size_t stride = std::max<std::size_t>(1, sc_.queries.size() / 512);
+  constexpr int kSide = 8;  // K = 64 stratified cosine directions
+  constexpr int kRays = kSide * kSide;
+  EmbreeScene embree(*sc_.scene.triangles);
+  const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+  const std::vector<glm::vec3> giHere = gi_.irradiance(sc_.queries);
+  std::vector<std::size_t> receivers;
+  for (std::size_t i = 0; i < sc_.queries.size(); i += stride) receivers.push_back(i);
+  const double toStack = 1.0 / img.voxelSize0;
+  std::string s =
+      "\nA near-field gather from the receivers (oracle on the triangles: 64 cosine rays per "
+      "receiver to R; hits bring emission + albedo/pi x (delta lights + irradiance at the hit), "
+      "misses the irradiance at the ray's end facing back, over pi):\n\n| R (probe spacings) | "
+      "receivers | rays hit within R | GI sampled | near: our field | near: reference at "
+      "hits, our field beyond | near: reference everywhere | near hits + one query along the bent "
+      "normal | the same from 16 rays |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const float spacings : {0.5f, 1.0f, 2.0f}) {
+    const std::size_t m = receivers.size();
+    std::vector<std::uint8_t> hitKind(m * kRays, 0);              // 0 miss, 1 hit
+    std::vector<glm::vec3> hitLight(m * kRays, glm::vec3(0.0f));  // emission + albedo/pi E_direct
+    std::vector<glm::vec3> hitAlbedo(m * kRays, glm::vec3(0.0f));
+    std::vector<glm::vec3> atPos(m * kRays), atNrm(m * kRays);
+    std::vector<gpu_shared::ProbeQuery> atQuery(m * kRays);
+    tbb::parallel_for(std::size_t(0), m, [&](std::size_t r) {
+      const std::size_t i = receivers[r];
+      const glm::vec3 n = glm::normalize(glm::vec3(sc_.queries[i].normal));
+      const glm::vec3 x = sc_.points.position[i] + n * float(0.01 * img.voxelSize0);
+      const float reach =
+          float(double(spacings) * f.volumes[picks[i]].originSpacing.w * img.voxelSize0);
+      const glm::vec3 t = std::abs(n.x) < 0.9f ? glm::normalize(glm::cross(n, {1, 0, 0}))
+                                               : glm::normalize(glm::cross(n, {0, 1, 0}));
+      const glm::vec3 b = glm::cross(n, t);
+      const float rot = float(r % 97) * 0.0647f;  // a per-receiver turn of the strata
+      for (int k = 0; k < kRays; ++k) {
+        const float u = (float(k % kSide) + 0.5f) / kSide, v = (float(k / kSide) + 0.5f) / kSide;
+        const float rad = std::sqrt(u), phi = 6.2831853f * (v + rot);
+        const glm::vec3 d = glm::normalize(t * (rad * std::cos(phi)) + b * (rad * std::sin(phi)) +
+                                           n * std::sqrt(std::max(0.0f, 1.0f - u)));
+        const std::size_t j = r * kRays + k;
+        const auto hit = embree.intersect(x, d, 0.0f, reach);
+        glm::vec3 p, pn;
+        if (hit) {
+          pn = hit->normal;
+          if (glm::dot(pn, d) > 0.0f) pn = -pn;
+          p = x + d * hit->t + pn * float(0.01 * img.voxelSize0);
+          const glm::vec3 albedo(sampleAlbedo(*sc_.scene.triangles, hit->triangle, hit->bary));
+          hitKind[j] = 1;
+          hitAlbedo[j] = albedo;
+          hitLight[j] = sampleEmission(*sc_.scene.triangles, hit->triangle, hit->bary) +
+                        albedo * tracer.directIrradiance(p, pn) * 0.3183098861837907f;
+        } else {
+          p = x + d * reach;
+          pn = d;
+        }
+        atPos[j] = p;
+        atNrm[j] = pn;
+        const glm::vec3 st = glm::vec3((glm::dvec3(p) - img.cascade0MinWorld) * toStack);
+        atQuery[j] = {glm::vec4(st, 0.0f), glm::vec4(pn, 0.0f), glm::vec4(pn, 0.0f)};
+      }
+    });
+    // The cheap far term: one query per receiver along its bent normal (the mean free
+    // direction), R out, scaled by the free fraction of the cosine-weighted rays.
+    std::vector<gpu_shared::ProbeQuery> bentQuery(m);
+    std::vector<float> freeFraction(m);
+    for (std::size_t r = 0; r < m; ++r) {
+      glm::vec3 bent(0.0f);
+      int free = 0;
+      for (int k = 0; k < kRays; ++k)
+        if (!hitKind[r * kRays + k]) {
+          bent += glm::normalize(atPos[r * kRays + k] - sc_.points.position[receivers[r]]);
+          ++free;
+        }
+      const std::size_t i = receivers[r];
+      const glm::vec3 n(sc_.queries[i].normal);
+      bent = free > 0 ? glm::normalize(bent) : n;
+      freeFraction[r] = float(free) / float(kRays);
+      const float reach = spacings * f.volumes[picks[i]].originSpacing.w;  // stack voxels
+      bentQuery[r] = {glm::vec4(glm::vec3(sc_.queries[i].position) + bent * reach, 0.0f),
+                      glm::vec4(bent, 0.0f), glm::vec4(bent, 0.0f)};
+    }
+    const std::vector<glm::vec3> bentE = gi_.irradiance(bentQuery);
+    const std::vector<glm::vec3> ours = gi_.irradiance(atQuery);
+    const std::vector<glm::vec3> exact = referenceAt(atPos, atNrm);
+    std::vector<glm::vec3> sampled(m), ref(m), nearOurs(m), nearMixed(m), nearExact(m), nearBent(m),
+        nearBent16(m);
+    std::size_t hits = 0;
+    for (std::size_t r = 0; r < m; ++r) {
+      glm::vec3 a(0.0f), bsum(0.0f), c(0.0f), hitSum(0.0f), hitSum16(0.0f);
+      int free16 = 0;
+      for (int k = 0; k < kRays; ++k) {
+        const std::size_t j = r * kRays + k;
+        // Every fourth stratum row and column pair: 16 of the 64 rays.
+        const bool in16 = (k % kSide) % 2 == 0 && (k / kSide) % 2 == 0;
+        if (hitKind[j]) {
+          ++hits;
+          const glm::vec3 lh = hitLight[j] + hitAlbedo[j] * ours[j] * 0.3183098861837907f;
+          hitSum += lh;
+          if (in16) hitSum16 += lh;
+          a += hitLight[j] + hitAlbedo[j] * ours[j] * 0.3183098861837907f;
+          bsum += hitLight[j] + hitAlbedo[j] * exact[j] * 0.3183098861837907f;
+          c += hitLight[j] + hitAlbedo[j] * exact[j] * 0.3183098861837907f;
+        } else {
+          free16 += in16;
+          a += ours[j] * 0.3183098861837907f;
+          bsum += ours[j] * 0.3183098861837907f;
+          c += exact[j] * 0.3183098861837907f;
+        }
+      }
+      const float scale = 3.14159265f / float(kRays);
+      nearOurs[r] = a * scale;
+      nearMixed[r] = bsum * scale;
+      nearExact[r] = c * scale;
+      nearBent[r] = hitSum * scale + freeFraction[r] * bentE[r];
+      nearBent16[r] = hitSum16 * (3.14159265f / 16.0f) + float(free16) / 16.0f * bentE[r];
+      sampled[r] = giHere[receivers[r]];
+      ref[r] = sc_.points.reference[receivers[r]];
+    }
+    double sumRef = 0;
+    for (const glm::vec3& e : ref) sumRef += luminance(e);
+    auto cell = [&](const std::vector<glm::vec3>& e) {
+      double sum = 0;
+      for (const glm::vec3& x : e) sum += luminance(x);
+      char c[64];
+      std::snprintf(c, sizeof c, " %.4f / %.3f |", reference::relMSE(e, ref),
+                    sumRef > 0 ? sum / sumRef : 0.0);
+      return std::string(c);
+    };
+    char head[96];
+    std::snprintf(head, sizeof head, "| %.1f | %zu | %.1f%% |", spacings, m,
+                  100.0 * double(hits) / double(m * kRays));
+    const std::string row = head + cell(sampled) + cell(nearOurs) + cell(nearMixed) +
+                            cell(nearExact) + cell(nearBent) + cell(nearBent16) + "\n";
+    std::printf("    diagnose: near field (relMSE / E/E_ref) %s", row.c_str());
+    s += row;
+  }
   into.diagnosis += s;
 }
 

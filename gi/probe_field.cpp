@@ -156,7 +156,7 @@ void ProbeField::preparePipelines(bool cellCorners) {
   for (gpu::ComputePipelinePair* p :
        {&classify_, &cacheCheck_, &select_, &trace_, &bounce_, &blend_})
     p->get(cellCorners);
-  sample_.get(false);  // a list of queries; half resolution compiles on first use
+  sampleVariant(false);  // a list of queries; half resolution compiles on first use
 }
 
 void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
@@ -252,7 +252,7 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
   pc.dispatch = glm::uvec4(0u, std::uint32_t(queries.size()), 0u, 0u);
   gpu::CommandBatch batch = context_.beginBatch();
   queries_.recordCopy(batch, qBytes);
-  batch.dispatch("probe_sample", sample_.get(false), bindings(scene, light, true), &pc, sizeof pc,
+  batch.dispatch("probe_sample", sampleVariant(false), bindings(scene, light, true), &pc, sizeof pc,
                  spread(pc.dispatch.y));
   return finishSampling(batch, queries.size());
 }
@@ -280,12 +280,16 @@ std::vector<glm::vec3> ProbeField::sampleHalfResolution(
   up.dispatch = glm::uvec4(0u, std::uint32_t(image.size()), width, height);
   gpu::CommandBatch batch = context_.beginBatch();
   queries_.recordCopy(batch, qBytes);
-  batch.dispatch("probe_sample", sample_.get(true), bindings(scene, light, true, &halfResults_),
+  batch.dispatch("probe_sample", sampleVariant(true), bindings(scene, light, true, &halfResults_),
                  &pc, sizeof pc, spread(pc.dispatch.y));
   batch.dispatch("probe_upsample", upsample_,
                  {&queries_.device(), &halfResults_, &results_.device()}, &up, sizeof up,
                  spread(up.dispatch.y));
   return finishSampling(batch, image.size());
+}
+
+const gpu::ComputePipeline& ProbeField::sampleVariant(bool halfResolution) {
+  return sample_.variant((halfResolution ? 1u : 0u) | (settings_.nearFieldRays > 0 ? 2u : 0u));
 }
 
 std::vector<glm::vec3> ProbeField::finishSampling(gpu::CommandBatch& batch, std::size_t count) {

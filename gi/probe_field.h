@@ -134,8 +134,10 @@ class ProbeField {
   // The passes that bind the traced atlas, specialized on which one it is
   // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
   gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;
-  // sample_: a list of queries (constant 0 off) or half resolution (on); probe_sample.comp.
+  // sample_: probe_sample.comp's variants (constant 0: bit 0 half resolution, bit 1 the
+  // near-field gather), each compiled on first use; sampleVariant picks the settings' one.
   gpu::ComputePipelinePair sample_;
+  const gpu::ComputePipeline& sampleVariant(bool halfResolution);
   gpu::ComputePipeline upsample_;
   // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
   // ring; the statistics go back through one readback buffer per frame in flight.

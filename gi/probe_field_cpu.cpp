@@ -4,6 +4,7 @@
 #include <atomic>
 #include <bit>
 #include <cassert>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 
@@ -249,6 +250,8 @@ bool hasSurface(const gpu_shared::ProbeQuery& q) {
 std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
                                              std::span<const gpu_shared::ProbeQuery> queries,
                                              SampleTraces traces, SampleCounts* counts) const {
+  if (settings_.nearFieldRays > 0)
+    throw std::logic_error("ProbeFieldCpu::sample: the near field is on; use sampleNearField");
   field_detail::FieldPasses base(stack);
   base.volumes = frame_.volumes.data();
   // Sampling only reads; the pointers are non-const because the pass structs also write.
@@ -326,6 +329,27 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
     }
   });
   if (counts) *counts = {cages.load(), sharedCages.load(), traced.load(), own.load()};
+  return out;
+}
+
+std::vector<glm::vec3> ProbeFieldCpu::sampleNearField(
+    const CascadeStackImage& stack, std::span<const std::uint32_t> lightRadiance,
+    std::span<const gpu_shared::ProbeQuery> queries) const {
+  field_detail::FieldPasses base(stack);
+  base.volumes = frame_.volumes.data();
+  base.irradiance = const_cast<glm::vec4*>(irradiance_.data());
+  base.depth = const_cast<glm::vec2*>(depth_.data());
+  base.probeData = const_cast<glm::vec4*>(data_.data());
+  base.lightRadiance = lightRadiance.data();
+  std::vector<glm::vec3> out(queries.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 16), [&](auto r) {
+    auto local = base;
+    for (std::size_t i = r.begin(); i < r.end(); ++i)
+      out[i] = !hasSurface(queries[i]) ? glm::vec3(0.0f)
+                                       : local.probeNearFieldIrradiance(
+                                             frame_.constants, glm::vec3(queries[i].position),
+                                             glm::vec3(queries[i].normal));
+  });
   return out;
 }
 

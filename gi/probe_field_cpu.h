@@ -77,6 +77,12 @@ class ProbeFieldCpu {
                                 std::span<const gpu_shared::ProbeQuery> queries,
                                 SampleTraces traces = SampleTraces::AsSettings,
                                 SampleCounts* counts = nullptr) const;
+  // The near-field variant's reference (ProbeFieldSettings::nearFieldRays > 0; sample() then
+  // throws std::logic_error): each query's own short rays (shaders/probe_near_field.glsl), their
+  // hits lit by `lightRadiance` (the light cache, one RGB9E5 per atlas material voxel).
+  std::vector<glm::vec3> sampleNearField(const CascadeStackImage& stack,
+                                         std::span<const std::uint32_t> lightRadiance,
+                                         std::span<const gpu_shared::ProbeQuery> queries) const;
   // ProbeField::sampleHalfResolution's reference: an image of queries (width × height, row by
   // row; zero normal: no surface) sampled at one pixel per 2×2 block in the GPU pass's order
   // (gi/probe_upsample.h), the rest upsampled.

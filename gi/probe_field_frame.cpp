@@ -164,8 +164,12 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
       drifting && s.bounceCellUpdates > 1 ? s.bounceCellUpdates / 2 : s.bounceCellUpdates;
   // z: where the bounce passes' list of waiting rays starts, after room for one cell per ray
   // (ProbeFieldSizes::bounceWork).
+  // w: the near-field gather's rays and reach in eighths of a spacing (probe_near_field.glsl).
+  const std::uint32_t nearRays = std::min(s.nearFieldRays, 255u);
+  const std::uint32_t nearReach =
+      std::uint32_t(std::clamp(std::lround(s.nearFieldReach * 8.0f), 1l, 255l));
   f.bounce = glm::uvec4(updates_, building ? std::min(serves, 1u) : serves,
-                        s.listCapacity(cascades) * s.raysPerProbe, 0u);
+                        s.listCapacity(cascades) * s.raysPerProbe, nearRays | nearReach << 8u);
   ++updates_;
 
   gridOrigins_ = std::move(gridOrigins);

@@ -86,6 +86,11 @@ struct ProbeFieldSettings {
   // switch's vigilance use, since their bounces build up one per update; while the lights drift
   // a cell serves half as many. 0: every hit looks the probes up itself.
   std::uint32_t bounceCellUpdates = 16;
+  // The near-field gather when sampling (shaders/probe_near_field.glsl): rays per receiver
+  // (0: off, sampling reads the probe cage alone; at most 255) to nearFieldReach probe spacings
+  // of the receiver's cascade (eighths, up to 31.875).
+  std::uint32_t nearFieldRays = 0;
+  float nearFieldReach = 1.0f;
   std::uint32_t maxSteps = 256;  // sphere-tracing iterations per ray, all cascades together
   float hitEpsilon = 0.02f;      // voxels of the cascade being traced
   float traceDistance = 1e30f;   // probe ray tMax, cascade-0 voxels

@@ -114,13 +114,14 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& other) noexcept {
 ComputePipelinePair::ComputePipelinePair(Context& ctx, ShaderId shader, const PipelineDesc& desc)
     : ctx_(&ctx), shader_(shader), desc_(desc) {}
 
-const ComputePipeline& ComputePipelinePair::get(bool on) {
-  ComputePipeline& variant = variants_[on ? 1 : 0];
-  if (!variant) {
+const ComputePipeline& ComputePipelinePair::variant(std::uint32_t constant0) {
+  SDFSTREAM_GPU_CHECK(constant0 < kVariants, "ComputePipelinePair::variant out of range");
+  ComputePipeline& v = variants_[constant0];
+  if (!v) {
     SDFSTREAM_GPU_CHECK(ctx_ != nullptr, "ComputePipelinePair::get on an empty pair");
-    variant = ComputePipeline(*ctx_, shader_, desc_, on ? 1u : 0u);
+    v = ComputePipeline(*ctx_, shader_, desc_, constant0);
   }
-  return variant;
+  return v;
 }
 
 void ComputePipeline::release() {

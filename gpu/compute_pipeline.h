@@ -73,13 +73,17 @@ class ComputePipelinePair {
   ComputePipelinePair(Context& ctx, ShaderId shader, const PipelineDesc& desc);
 
   // The variant with constant 0 = `on`. Throws std::runtime_error when creation fails.
-  const ComputePipeline& get(bool on);
+  const ComputePipeline& get(bool on) { return variant(on ? 1u : 0u); }
+  // The variant with constant 0 = `constant0` (< kVariants), for a shader whose constant 0 is a
+  // uint of option bits (probe_sample.comp).
+  const ComputePipeline& variant(std::uint32_t constant0);
+  static constexpr std::uint32_t kVariants = 4;
 
  private:
   Context* ctx_ = nullptr;
   ShaderId shader_{};
   PipelineDesc desc_{};
-  ComputePipeline variants_[2];
+  ComputePipeline variants_[kVariants];
 };
 
 }  // namespace sdfstream::gpu

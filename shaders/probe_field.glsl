@@ -8,6 +8,7 @@
 //   probe_classify.glsl  scroll reset, SDF relocation, states, hit-cache invalidation
 //   probe_select.glsl    scheduling, the update list and the sizes of the list-driven passes
 //   probe_trace.glsl     a probe ray: hit cache or stack trace, shading
+//   probe_near_field.glsl  a receiver's own short rays (sampling's near-field variant)
 //   probe_blend.glsl     rays into interior texels, then borders
 // Same rules as sdf_trace.glsl (no swizzles, no out parameters, f-suffixed float literals).
 //

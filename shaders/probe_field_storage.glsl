@@ -60,4 +60,5 @@
 #include "shaders/probe_classify.glsl"
 #include "shaders/probe_select.glsl"
 #include "shaders/probe_trace.glsl"
+#include "shaders/probe_near_field.glsl"
 #include "shaders/probe_blend.glsl"

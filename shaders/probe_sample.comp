@@ -19,9 +19,12 @@
 #include "shaders/probe_bindings.glsl"
 #define PROBE_UPSAMPLE_QUERY(i) queries[i]
 #include "shaders/probe_upsample.glsl"
-// Half resolution is a pipeline of its own (ProbeField::sample_, a pair): as a uniform branch,
-// its index arithmetic cost the list mode 3% on the H200 (Chebyshev only, 0.477 -> 0.491 ms).
-layout(constant_id = 0) const bool kHalfImage = false;
+// Half resolution and the near-field gather are pipelines of their own (ProbeField::sample_):
+// as a uniform branch, the half mode's index arithmetic cost the list mode 3% on the H200
+// (Chebyshev only, 0.477 -> 0.491 ms). Constant 0: bit 0 half resolution, bit 1 near field.
+layout(constant_id = 0) const uint kSampleVariant = 0u;
+const bool kHalfImage = (kSampleVariant & 1u) != 0u;
+const bool kNearField = (kSampleVariant & 2u) != 0u;
 
 const uint kNoCage = 0xffffffffu;
 shared uint sharedCascade[64][2];
@@ -64,6 +67,14 @@ void main() {
   ProbeQuery q = queries[queryIndex];
   // No surface (a normal of zero): irradiance 0, and the lane takes no part in sharing.
   bool surface = valid && probeQueryHasSurface(q);
+  // The near-field gather (shaders/probe_near_field.glsl): every query on its own; a constant,
+  // so the whole workgroup leaves before the sharing's barriers.
+  if (kNearField) {
+    if (!valid) return;
+    vec3 e = surface ? probeNearFieldIrradiance(frame, q.position.xyz, q.normal.xyz) : vec3(0.0);
+    results[resultIndex] = vec4(e, kHalfImage ? (surface ? float(halfPixel) : -1.0) : 0.0);
+    return;
+  }
   ProbeFieldPlan plan;
   plan.count = 0u;
   if (surface)
