@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <set>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "bench/bench_gi_peers.h"
@@ -137,6 +138,14 @@ class ConfigRun {
   // ray's end with the ray's direction for normal, over pi (ours, or the reference's). Against
   // the GI's own sampling of the same receivers, for R of 0.5, 1 and 2 probe spacings.
   void diagnoseNearField(SceneReport& into);
+  std::string nearFieldApart(const CascadeStackImage& img, const probe::ProbeFieldFrame& f,
+                             std::span<const std::uint32_t> picks,
+                             std::span<const std::size_t> receivers,
+                             std::span<const glm::vec3> rayDir,
+                             std::span<const std::uint8_t> hitKind,
+                             std::span<const glm::vec3> atPos, std::span<const glm::vec3> atNrm,
+                             std::span<const glm::vec3> hitAlbedo, std::span<const glm::vec3> ours,
+                             std::span<const glm::vec3> ref, float spacings);
 
   // --diagnose: the receivers of each sampling cascade k, sampled from k alone and from each
   // coarser cascade alone: whether another cascade's probes would serve them better.

@@ -91,6 +91,11 @@ LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::
                               std::uint32_t cascade, glm::vec3 p0,
                               const LightCacheSettings& settings = {});
 
+// The light cache's material voxel (slot * kBrickMaterialCount + cell) holding the point p0
+// (cascade-0 voxels) in cascade `cascade`, or -1 where its page holds no brick: the index of
+// LightCache::downloadRadiance() a hit there reads.
+std::int64_t lightMaterialAt(const CascadeStackImage& stack, std::uint32_t cascade, glm::vec3 p0);
+
 // What relighting every resident page of `stack` under `lights` (cascade-0 voxels, toGpu; at
 // most kMaxLights) asks of the light cache pass, counted on the CPU with the same math
 // (gi/light_cache_work.h).

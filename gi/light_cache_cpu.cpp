@@ -121,6 +121,22 @@ LightCellSteps lightCellSteps(const CascadeStackImage& stack, const gpu_shared::
   return out;
 }
 
+std::int64_t lightMaterialAt(const CascadeStackImage& stack, std::uint32_t cascade, glm::vec3 p0) {
+  using namespace gpu_shared;
+  light_detail::LightCacheShader sh{stack.pageTables.data(),   stack.distanceAtlas->data(),
+                                    stack.albedoAtlas->data(), stack.emissionAtlas->data(),
+                                    stack.params.data(),       nullptr};
+  const CascadeTraceParams& cp = stack.params[cascade];
+  const glm::vec3 p = (p0 - glm::vec3(cp.offsetScale)) / cp.offsetScale.w;
+  const glm::ivec3 page = sh.sdfPageOf(p);
+  const std::uint32_t entry = stack.pageTables[sh.sdfPageIndex(page, cp.toroidal)];
+  if ((entry & kPageResidentBit) == 0u) return -1;
+  const glm::ivec3 cellXyz =
+      glm::clamp(glm::ivec3(glm::floor(p - glm::vec3(page) * 8.0f)), glm::ivec3(0), glm::ivec3(7));
+  return std::int64_t(entry & kPagePayloadMask) * kBrickMaterialCount +
+         (cellXyz.x + 8 * (cellXyz.y + 8 * cellXyz.z));
+}
+
 LightCacheWork lightCacheWork(const CascadeStackImage& stack,
                               std::span<const gpu_shared::GpuLight> lights,
                               const LightCacheSettings& settings) {
