@@ -28,6 +28,17 @@ namespace sdfstream::bench {
 namespace {
 // The six axis normals the probes' irradiance is compared along.
 const glm::vec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+// "relMSE / E/E_ref" of irradiances e against ref, point by point.
+std::string relMseAndRatio(std::span<const glm::vec3> e, std::span<const glm::vec3> ref) {
+  double sum = 0, sumRef = 0;
+  for (const glm::vec3& x : e) sum += luminance(x);
+  for (const glm::vec3& x : ref) sumRef += luminance(x);
+  char c[64];
+  std::snprintf(c, sizeof c, "%.4f / %.3f", reference::relMSE(e, ref),
+                sumRef > 0 ? sum / sumRef : 0.0);
+  return c;
+}
 }  // namespace
 
 // --diagnose: this frame's probe rays against Embree, by the cascade they end in.
@@ -760,15 +771,8 @@ void ConfigRun::diagnoseNearField(SceneReport& into) {
       sampled[r] = giHere[receivers[r]];
       ref[r] = sc_.points.reference[receivers[r]];
     }
-    double sumRef = 0;
-    for (const glm::vec3& e : ref) sumRef += luminance(e);
     auto cell = [&](const std::vector<glm::vec3>& e) {
-      double sum = 0;
-      for (const glm::vec3& x : e) sum += luminance(x);
-      char c[64];
-      std::snprintf(c, sizeof c, " %.4f / %.3f |", reference::relMSE(e, ref),
-                    sumRef > 0 ? sum / sumRef : 0.0);
-      return std::string(c);
+      return " " + relMseAndRatio(e, ref) + " |";
     };
     char head[96];
     std::snprintf(head, sizeof head, "| %.1f | %zu | %.1f%% |", spacings, m,
@@ -896,16 +900,7 @@ std::string ConfigRun::nearFieldApart(
     sdfExact[r] = a * scale;
     sdfCache[r] = b * scale;
   }
-  double sumRef = 0;
-  for (const glm::vec3& e : ref) sumRef += luminance(e);
-  auto cell = [&](const std::vector<glm::vec3>& e) {
-    double sum = 0;
-    for (const glm::vec3& x : e) sum += luminance(x);
-    char c[64];
-    std::snprintf(c, sizeof c, "%.4f / %.3f", reference::relMSE(e, ref),
-                  sumRef > 0 ? sum / sumRef : 0.0);
-    return std::string(c);
-  };
+  auto cell = [&](const std::vector<glm::vec3>& e) { return relMseAndRatio(e, ref); };
   char row[900];
   std::snprintf(row, sizeof row,
                 "\nThe SDF version's gap, taken apart at R = 1 spacing (relMSE / E/E_ref): the "

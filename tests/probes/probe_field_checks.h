@@ -12,6 +12,7 @@
 #include "gi/probe_math.h"
 #include "shaders/shared/probe_layout.h"
 #include "streaming/cascade_stack.h"
+#include "tests/support/analytic_stack.h"
 
 namespace sdfstream::test {
 
@@ -105,5 +106,20 @@ inline auto insideBox(glm::vec3 lo, glm::vec3 hi) {
     return -box;
   };
 }
+
+// The white furnace: one cascade whose box [4, 124]³ has Lambertian walls of albedo rho (sRGB
+// byte 188) that emit radiance Le = 1. In steady state the radiance is uniform, L = Le / (1 -
+// rho), so every irradiance inside is pi Le / (1 - rho) (`expected`).
+struct WhiteFurnaceBox {
+  static constexpr std::uint32_t kSrgbByte = 188;
+  static constexpr std::uint32_t kAlbedo =
+      kSrgbByte | kSrgbByte << 8 | kSrgbByte << 16 | 255u << 24;
+  static constexpr std::uint32_t kEmission = 256u | 256u << 9 | 256u << 18 | 16u << 27;  // 1.0
+  glm::vec3 lo{4.0f}, hi{124.0f};
+  double rho = std::pow((kSrgbByte / 255.0 + 0.055) / 1.055, 2.4);
+  double expected = 3.141592653589793 / (1.0 - rho);
+  AnalyticStack stack{1, insideBox(lo, hi),
+                      [](glm::vec3) { return glm::uvec2(kAlbedo, kEmission); }};
+};
 
 }  // namespace sdfstream::test

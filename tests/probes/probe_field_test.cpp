@@ -275,13 +275,9 @@ TEST_F(ProbeFieldTest, NeighbouringQueriesSplitTheirSdfTests) {
 // probe converges to  E = pi * Le / (1 - rho).  One cascade, box [4, 124]³ voxels, 9³ probes
 // (7³ inside, the rest in the walls and switched off), no lights, sky 0, bounce gain 1.
 TEST_F(ProbeFieldTest, WhiteFurnaceConvergesToAnalyticIrradiance) {
-  const std::uint32_t srgbByte = 188;
-  const std::uint32_t albedo = srgbByte | srgbByte << 8 | srgbByte << 16 | 255u << 24;
-  const std::uint32_t emission = 256u | 256u << 9 | 256u << 18 | 16u << 27;  // RGB9E5 of 1.0
-  const double rho = std::pow((srgbByte / 255.0 + 0.055) / 1.055, 2.4);
-  const double expected = 3.141592653589793 * 1.0 / (1.0 - rho);
-  test::AnalyticStack box(1, test::insideBox(glm::vec3(4.0f), glm::vec3(124.0f)),
-                          [&](glm::vec3) { return glm::uvec2(albedo, emission); });
+  const test::WhiteFurnaceBox furnace;
+  const test::AnalyticStack& box = furnace.stack;
+  const double rho = furnace.rho, expected = furnace.expected;
   ProbeFieldSettings s;
   s.spacingBricks = 2;
   s.raysPerProbe = 64;
@@ -303,7 +299,7 @@ TEST_F(ProbeFieldTest, WhiteFurnaceConvergesToAnalyticIrradiance) {
     const glm::vec3 e = test::meanProbeIrradiance(gIrr, g, s.irradianceGamma);
     worstProbe = std::max(worstProbe, std::abs(e.x - expected) / expected);
   }
-  const auto queries = test::boxWallQueries(glm::vec3(4.0f), glm::vec3(124.0f), 1024, 3u);
+  const auto queries = test::boxWallQueries(furnace.lo, furnace.hi, 1024, 3u);
   const auto gSample = h.sampleGpu(queries);
   const auto cSample = cpu.sample(box.image, queries);
   double worstSample = 0.0;

@@ -24,13 +24,9 @@ class ProbeNearFieldTest : public test::GpuTest {};
 // field's pi L at the hit, a miss the field's E / pi at the ray's end: both L, so the gather
 // reads pi L at every receiver, whatever share of its rays hit.
 TEST_F(ProbeNearFieldTest, WhiteFurnaceReadsTheAnalyticIrradiance) {
-  const std::uint32_t srgbByte = 188;
-  const std::uint32_t albedo = srgbByte | srgbByte << 8 | srgbByte << 16 | 255u << 24;
-  const std::uint32_t emission = 256u | 256u << 9 | 256u << 18 | 16u << 27;  // RGB9E5 of 1.0
-  const double rho = std::pow((srgbByte / 255.0 + 0.055) / 1.055, 2.4);
-  const double expected = 3.141592653589793 * 1.0 / (1.0 - rho);
-  test::AnalyticStack box(1, test::insideBox(glm::vec3(4.0f), glm::vec3(124.0f)),
-                          [&](glm::vec3) { return glm::uvec2(albedo, emission); });
+  const test::WhiteFurnaceBox furnace;
+  const test::AnalyticStack& box = furnace.stack;
+  const double expected = furnace.expected;
   ProbeFieldSettings s;
   s.spacingBricks = 2;
   s.raysPerProbe = 64;
@@ -45,7 +41,7 @@ TEST_F(ProbeNearFieldTest, WhiteFurnaceReadsTheAnalyticIrradiance) {
   // Receivers on the walls: with 32 voxels of reach on 120-voxel walls, about half of them
   // are near enough to a second wall for some rays to hit it.
   const std::vector<gpu_shared::ProbeQuery> queries =
-      test::boxWallQueries(glm::vec3(4.0f), glm::vec3(124.0f), 1024, 5u);
+      test::boxWallQueries(furnace.lo, furnace.hi, 1024, 5u);
   const auto gpu = h.sampleGpu(queries);
   const auto cpu = h.cpuField->sampleNearField(box.image, h.lightCpu.radiance(), queries);
   double worst = 0.0, mean = 0.0;
