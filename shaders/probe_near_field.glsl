@@ -19,12 +19,14 @@
 //  - a miss brings the field's irradiance at the ray's end, facing back along the ray, over pi:
 //    the radiance arriving along the ray, exact where the light there is uniform (SDF
 //    visibility as sampling has it: 0.149 -> 0.128 there).
-// E = pi / K' x the sum over the K' rays not left out (cosine-weighted directions). An oracle of the same estimator on the
-// triangles (bench gi --diagnose, "near-field gather") gave Sponza relMSE 0.129 -> 0.038 and
-// E/E_ref 0.915 -> 0.975 at R = 1 spacing, 64 rays. Through the SDF and the light cache it does
-// less, and costs the Cornell box and the Breakfast Room accuracy: off by default
-// (ProbeFieldSettings::nearFieldRays; docs/DECISIONS.md, "A near-field gather").
-
+// E = pi / K' x the sum over the K' rays not left out (cosine-weighted directions).
+//
+// An oracle of the same estimator on the triangles (bench gi --diagnose) gave Sponza relMSE
+// 0.129 -> 0.038 and E/E_ref 0.915 -> 0.975 at R = 1 spacing, 64 rays. Through the SDF it does
+// less (the SDF's near geometry, measured apart from the light cache), costs the Cornell box
+// and the Breakfast Room accuracy, and is ~170x the sampling pass on an H100 (16 rays, 1080p:
+// 259 ms). So it is off by default (ProbeFieldSettings::nearFieldRays; docs/DECISIONS.md, "A
+// near-field gather"; docs/GPU_BUDGET.md).
 
 // ProbeFrame::bounce.w: bits 0-7 rays per query (0: off), bits 8-15 the reach in eighths of a
 // probe spacing.
