@@ -923,6 +923,9 @@ std::string ConfigRun::nearFieldApart(
   const std::vector<glm::vec3> fieldTri = gi_.irradiance(qt);
   enum { kBothMiss, kBothHit, kSdfOnly, kTriOnly, kKinds };
   std::array<std::size_t, kKinds> kindRays{};
+  // The SDF's hits by the cascade they land in, and how far from the start the ray's cascade
+  // is: where the SDF alone hits against where both do.
+  std::vector<std::size_t> sdfOnlyBy(img.params.size(), 0), bothBy(img.params.size(), 0);
   std::array<double, kKinds> kindSdf{}, kindTri{};
   std::vector<glm::vec3> triFromStart(m, glm::vec3(0.0f));
   for (std::size_t r = 0; r < m; ++r) {
@@ -962,6 +965,12 @@ std::string ConfigRun::nearFieldApart(
       }
       const int kind = sdfHit ? (triHit ? kBothHit : kSdfOnly) : (triHit ? kTriOnly : kBothMiss);
       ++kindRays[kind];
+      if (sdfHit) {
+        const std::uint32_t hc =
+            std::min<std::uint32_t>((hits[j].flags >> gpu_shared::kHitCascadeShift) & 15u,
+                                    std::uint32_t(img.params.size() - 1));
+        ++(triHit ? bothBy : sdfOnlyBy)[hc];
+      }
       kindSdf[kind] += luminance(ls);
       kindTri[kind] += luminance(lt);
     }
@@ -979,7 +988,14 @@ std::string ConfigRun::nearFieldApart(
                   kindRays[k] ? kindTri[k] / double(kindRays[k]) : 0.0);
     kinds += c;
   }
-  char row[1600];
+  kinds += ". The SDF's hits by the cascade they land in (the SDF only / both):";
+  for (std::size_t c = 0; c < img.params.size(); ++c) {
+    if (sdfOnlyBy[c] + bothBy[c] == 0) continue;
+    char c2[64];
+    std::snprintf(c2, sizeof c2, " %zu: %zu / %zu;", c, sdfOnlyBy[c], bothBy[c]);
+    kinds += c2;
+  }
+  char row[2000];
   std::snprintf(row, sizeof row,
                 "\nThe SDF version's gap, taken apart at R = 1 spacing (relMSE / E/E_ref): the "
                 "triangles with the light cache's cell at each hit %s (%zu hits without a "
