@@ -1,6 +1,7 @@
 // The run of one `bench gi` configuration (bench/bench_gi_run.h: runConfig), shared by its two
 // halves: bench_gi_run.cpp (warm-up, measurement, the peers, the light switch) and
-// bench_gi_run_diagnose.cpp (--diagnose: where the light goes). Internal to bench/.
+// bench_gi_run_diagnose.cpp and
+// bench_gi_run_near_field.cpp (--diagnose: where the light goes). Internal to bench/.
 #pragma once
 
 #include <cstdint>
