@@ -245,6 +245,21 @@ namespace {
 bool hasSurface(const gpu_shared::ProbeQuery& q) {
   return glm::dot(glm::vec3(q.normal), glm::vec3(q.normal)) > 0.0f;
 }
+
+// The passes' view of a field for sampling: the stack and the probes' volumes, texels and data.
+// Sampling only reads; the pointers are non-const because the pass structs also write.
+field_detail::FieldPasses samplingPasses(const CascadeStackImage& stack,
+                                         const std::vector<gpu_shared::ProbeVolume>& volumes,
+                                         const std::vector<glm::vec4>& irradiance,
+                                         const std::vector<glm::vec2>& depth,
+                                         const std::vector<glm::vec4>& data) {
+  field_detail::FieldPasses base(stack);
+  base.volumes = volumes.data();
+  base.irradiance = const_cast<glm::vec4*>(irradiance.data());
+  base.depth = const_cast<glm::vec2*>(depth.data());
+  base.probeData = const_cast<glm::vec4*>(data.data());
+  return base;
+}
 }  // namespace
 
 std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
@@ -252,12 +267,8 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
                                              SampleTraces traces, SampleCounts* counts) const {
   if (settings_.nearFieldRays > 0)
     throw std::logic_error("ProbeFieldCpu::sample: the near field is on; use sampleNearField");
-  field_detail::FieldPasses base(stack);
-  base.volumes = frame_.volumes.data();
-  // Sampling only reads; the pointers are non-const because the pass structs also write.
-  base.irradiance = const_cast<glm::vec4*>(irradiance_.data());
-  base.depth = const_cast<glm::vec2*>(depth_.data());
-  base.probeData = const_cast<glm::vec4*>(data_.data());
+  const field_detail::FieldPasses base =
+      samplingPasses(stack, frame_.volumes, irradiance_, depth_, data_);
   std::vector<glm::vec3> out(queries.size());
   std::atomic<std::uint64_t> cages = 0, sharedCages = 0, traced = 0, own = 0;
   if (traces == SampleTraces::AsSettings)
@@ -335,11 +346,8 @@ std::vector<glm::vec3> ProbeFieldCpu::sample(const CascadeStackImage& stack,
 std::vector<glm::vec3> ProbeFieldCpu::sampleNearField(
     const CascadeStackImage& stack, std::span<const std::uint32_t> lightRadiance,
     std::span<const gpu_shared::ProbeQuery> queries) const {
-  field_detail::FieldPasses base(stack);
-  base.volumes = frame_.volumes.data();
-  base.irradiance = const_cast<glm::vec4*>(irradiance_.data());
-  base.depth = const_cast<glm::vec2*>(depth_.data());
-  base.probeData = const_cast<glm::vec4*>(data_.data());
+  field_detail::FieldPasses base =
+      samplingPasses(stack, frame_.volumes, irradiance_, depth_, data_);
   base.lightRadiance = lightRadiance.data();
   std::vector<glm::vec3> out(queries.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 16), [&](auto r) {

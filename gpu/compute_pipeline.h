@@ -63,8 +63,9 @@ class ComputePipeline {
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
-// The two pipelines of one shader whose specialization constant 0 is a bool, each made on its
-// first use: a run compiles only the variants it asks for. For passes whose choice is known only
+// The pipelines of one shader by its specialization constant 0 (a bool, or up to kVariants
+// values of option bits), each made on its first use: a run compiles only the variants it asks
+// for. For passes whose choice is known only
 // once the data is (which atlas a scene holds, gi/gpu_stack_scene.h). Asking for a variant not
 // made yet creates it, a compile's hitch, once. Thread safety: as for the Context.
 class ComputePipelinePair {
