@@ -321,10 +321,12 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
     rep.primary = primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height, 8);
     const PrimaryTraceTiming& p = rep.primary;
     std::printf(
-        "  primary rays: %zu, %.3f ms, %.1f steps a ray (surface %.1f, band %.1f, clamped "
+        "  primary rays: %zu, %.3f ms (%.3f-%.3f), %.1f steps a ray (surface %.1f, band %.1f, "
+        "clamped "
         "%.1f, empty pages %.1f, missing %.1f; CPU steps %s)\n",
-        p.rays, p.milliseconds, p.meanSteps, p.stepsByKind[0], p.stepsByKind[1], p.stepsByKind[2],
-        p.stepsByKind[3], p.stepsByKind[4], p.cpuStepsEqual ? "equal" : "differ");
+        p.rays, p.milliseconds, p.minMilliseconds, p.maxMilliseconds, p.meanSteps, p.stepsByKind[0],
+        p.stepsByKind[1], p.stepsByKind[2], p.stepsByKind[3], p.stepsByKind[4],
+        p.cpuStepsEqual ? "equal" : "differ");
   }
 
   SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}, {}, {}};

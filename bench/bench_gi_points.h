@@ -49,7 +49,8 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
 // Primary-ray SDF traversal alone (trace_stack.comp, no shading): width × height rays from the
 // scene's stream camera (inside every cascade, unlike the reference's views, which may look in
 // from outside the stack) along its view direction, 60° vertical field of view: the GPU time of
-// the pass (median of `repeats` dispatches after one warm-up) and how many rays hit, and
+// the pass (median of the last `repeats` (1..20) of 3 × repeats dispatches in one submission,
+// after one warm-up traced apart) and how many rays hit, and
 // the steps they took. The real-GPU table reports it as rays per second, the traversal's own
 // throughput.
 PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,

@@ -470,7 +470,9 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
        << " rays from the stream camera along its view direction (60° field of view): " << p.rays
        << " rays, " << p.hits << " hits, " << fmt("%.3f", p.milliseconds) << " ms = "
        << fmt("%.3f", p.milliseconds > 0.0 ? double(p.rays) / (p.milliseconds * 1e-3) * 1e-9 : 0.0)
-       << " G rays/s (median of 8 dispatches). Steps per ray " << fmt("%.1f", p.meanSteps)
+       << " G rays/s (median of the last " << p.timedDispatches << " of " << 3 * p.timedDispatches
+       << " dispatches back to back; they took " << fmt("%.3f", p.minMilliseconds) << "-"
+       << fmt("%.3f", p.maxMilliseconds) << " ms). Steps per ray " << fmt("%.1f", p.meanSteps)
        << " (99th percentile " << fmt("%.0f", p.p99Steps)
        << "); the longest ray's steps in its group of 32, per ray: "
        << fmt("%.1f", p.groupStepsRows) << " in rows as dispatched, "

@@ -20,7 +20,9 @@ namespace sdfstream::bench {
 // a row) and, for comparison, in 8 × 4 pixel tiles.
 struct PrimaryTraceTiming {
   std::size_t rays = 0, hits = 0;
-  double milliseconds = 0.0;  // 0: the device has no timestamps
+  double milliseconds = 0.0;  // median of the timed dispatches; 0: the device has no timestamps
+  double minMilliseconds = 0.0, maxMilliseconds = 0.0;  // their spread
+  std::uint32_t timedDispatches = 0;  // the median's count (after twice as many to warm up)
   double meanSteps = 0.0;     // sphere-tracing steps per ray over every cascade
   double p99Steps = 0.0;
   double groupStepsRows = 0.0;   // mean over rays of their 32-ray group's most steps, rows

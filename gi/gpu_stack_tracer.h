@@ -30,8 +30,12 @@ class GpuStackTracer {
   const GpuStackScene& scene() const { return scene_; }
 
   // Traces rays given in cascade-0 voxels (CascadeStackImage::toStack); blocks for the results.
+  // `dispatches` > 1 traces the same rays that many times back to back in one submission (the
+  // same hits each time; lastTimings() lists every dispatch): a benchmark's way to time the pass
+  // with the GPU busy, so that its clocks have left their idle state (1..60).
   std::vector<gpu_shared::TraceHit> trace(std::span<const gpu_shared::TraceRay> rays,
-                                          const TraceSettings& settings);
+                                          const TraceSettings& settings,
+                                          std::uint32_t dispatches = 1);
   const std::vector<gpu::PassTiming>& lastTimings() const { return timings_; }
   double lastMilliseconds(const std::string& pass) const;
 

@@ -163,6 +163,33 @@ TEST_F(StackTrace, GpuRaysAlongAPageFaceMatchTheCpu) {
   EXPECT_GT(hits, int(rays.onFace.size()) / 2);
 }
 
+// Benchmarks time the pass as several dispatches back to back: each one timed, the same hits.
+TEST_F(StackTrace, BackToBackDispatchesReturnTheSameHits) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  auto rays = raysFromCamera(b, img, 2000);
+  GpuStackTracer gpuTracer(ctx(), *b.stack);
+  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  gpuTracer.sync(*b.stack, all);
+  const auto once = gpuTracer.trace(rays, TraceSettings{});
+  const auto thrice = gpuTracer.trace(rays, TraceSettings{}, 3);
+  int timed = 0;
+  for (const gpu::PassTiming& t : gpuTracer.lastTimings()) timed += t.name == "trace_stack";
+  EXPECT_EQ(timed, 3);
+  ASSERT_EQ(once.size(), thrice.size());
+  int differ = 0, hits = 0;
+  for (std::size_t i = 0; i < once.size(); ++i) {
+    hits += (once[i].flags & gpu_shared::kHitFlagHit) != 0;
+    differ += once[i].flags != thrice[i].flags || once[i].normalT != thrice[i].normalT ||
+              once[i].steps != thrice[i].steps;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(hits, 500);
+  EXPECT_THROW(gpuTracer.trace(rays, TraceSettings{}, 0), std::invalid_argument);
+  EXPECT_THROW(gpuTracer.trace(rays, TraceSettings{}, 61), std::invalid_argument);
+}
+
 TEST(StackTraceCpu, MissingPagesFallBackToACoarserCascade) {
   StreamedBunny b = streamBunny();
   CascadeStackImage img = b.stack->stackImage();
