@@ -169,8 +169,45 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
 // --diagnose: the default without its multi-bounce feedback (probe-ray hits shaded with their
 // direct light and emission only) against the reference capped at one surface hit -- the same
 // transport -- and what the bounces beyond add in both.
+// The receivers in five groups by their reference one-bounce luminance (darkest first): each
+// group's share of the one-bounce light, and GI/reference for one bounce and for everything. A
+// loss concentrated in the brightest group points at a few receivers (a window's sill, a sunlit
+// patch's neighbours); one spread evenly, at the sampling everywhere.
+std::string bounceQuintiles(std::span<const glm::vec3> gi1, std::span<const glm::vec3> ref1,
+                            std::span<const glm::vec3> giAll, std::span<const glm::vec3> refAll) {
+  std::vector<std::size_t> order(ref1.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return luminance(ref1[a]) < luminance(ref1[b]); });
+  double total1 = 0;
+  for (const glm::vec3& r : ref1) total1 += luminance(r);
+  std::string s =
+      "\nThe receivers by their reference one-bounce light, in fifths (darkest first):\n\n| fifth "
+      "| share of the one-bounce light | one bounce GI/ref | everything GI/ref |\n"
+      "|---|---|---|---|\n";
+  for (int q = 0; q < 5; ++q) {
+    double g1 = 0, r1 = 0, ga = 0, ra = 0;
+    for (std::size_t j = order.size() * q / 5; j < order.size() * (q + 1) / 5; ++j) {
+      const std::size_t i = order[j];
+      g1 += luminance(gi1[i]);
+      r1 += luminance(ref1[i]);
+      ga += luminance(giAll[i]);
+      ra += luminance(refAll[i]);
+    }
+    char row[160];
+    std::snprintf(row, sizeof row, "| %d | %.1f%% | %.3f | %.3f |\n", q + 1,
+                  total1 > 0 ? 100.0 * r1 / total1 : 0.0, r1 > 0 ? g1 / r1 : 0.0,
+                  ra > 0 ? ga / ra : 0.0);
+    s += row;
+    std::printf("    diagnose: one-bounce fifth %d: share %.1f%%, GI/ref %.3f, everything %.3f\n",
+                q + 1, total1 > 0 ? 100.0 * r1 / total1 : 0.0, r1 > 0 ? g1 / r1 : 0.0,
+                ra > 0 ? ga / ra : 0.0);
+  }
+  return s;
+}
+
 void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<glm::vec3>& eFull,
-                     SceneReport& rep) {
+                     const fs::path& sceneDir, SceneReport& rep) {
   GiConfig one = def;
   one.name = def.name + "-one-bounce";
   one.probes.bounceGain = 0.0f;
@@ -199,6 +236,14 @@ void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<gl
       refAll, refAll > 0 ? giAll / refAll : 0.0);
   std::printf("    diagnose:%s", s + 1);
   rep.diagnosis += s;
+  rep.diagnosis += bounceQuintiles(e1, p.referenceOneBounce, eFull, p.reference);
+  for (std::size_t view = 0; view < p.views(); ++view) {
+    writeToneMappedPng(sceneDir / (p.names[view] + "-" + one.name + ".png"),
+                       shadedImage(p, view, e1), p.width, p.height, p.exposure[view]);
+    writeToneMappedPng(sceneDir / (p.names[view] + "-reference-one-bounce.png"),
+                       shadedImage(p, view, p.referenceOneBounce), p.width, p.height,
+                       p.exposure[view]);
+  }
 
   // E/E_ref by the cascade each receiver is sampled from (the finest whose probe grid holds it
   // half a spacing inside, as probeFieldIrradiance picks it).
@@ -264,7 +309,7 @@ void runConfigs(SceneContext& sc, const std::vector<GiConfig>& run, const fs::pa
           writeToneMappedPng(sceneDir / (points.names[view] + "-" + c.name + ".png"),
                              shadedImage(points, view, e), points.width, points.height,
                              points.exposure[view]);
-      if (diagnosed && !points.referenceOneBounce.empty()) diagnoseBounces(sc, c, e, rep);
+      if (diagnosed && !points.referenceOneBounce.empty()) diagnoseBounces(sc, c, e, sceneDir, rep);
       if (round == 0)
         rep.configs.push_back(std::move(r));
       else if (r.updateMs + r.sampleMs < rep.configs[k].updateMs + rep.configs[k].sampleMs)

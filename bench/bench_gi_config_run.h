@@ -102,9 +102,11 @@ class ConfigRun {
     return pi;
   }
 
-  // The reference irradiance (NoDirectLights, cached with the scene's) at world points.
+  // The reference irradiance (NoDirectLights, cached with the scene's) at world points; paths
+  // of at most maxDepth surface hits (1: one bounce, as a bounceGain-0 field holds).
   std::vector<glm::vec3> referenceAt(std::span<const glm::vec3> positions,
-                                     std::span<const glm::vec3> normals) const;
+                                     std::span<const glm::vec3> normals,
+                                     std::uint32_t maxDepth = 64) const;
 
   // This frame's probe volumes as the passes see them (grids, spacings, scroll).
   probe::ProbeFieldFrame frameConstants(const CascadeStackImage& img) const {
@@ -130,7 +132,7 @@ class ConfigRun {
   // their sampling cascade (in free space, up to 4096 of them), GI against the reference there.
   // Near the probes-themselves ratio while the receivers' is not: the loss is in sampling next
   // to surfaces; as low as the receivers': it is regional, in what the nearby probes gather.
-  void diagnoseAwayFromSurfaces(SceneReport& into);
+  void diagnoseAwayFromSurfaces(SceneReport& into, bool oneBounce);
 
   // --diagnose: what a near-field gather from the receivers would read (an oracle on the
   // triangles, no GPU code behind it): per receiver (up to 512) K cosine-distributed rays traced

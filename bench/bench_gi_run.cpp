@@ -258,8 +258,11 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
 
 // The reference irradiance (NoDirectLights, cached with the scene's) at world points.
 std::vector<glm::vec3> ConfigRun::referenceAt(std::span<const glm::vec3> positions,
-                                              std::span<const glm::vec3> normals) const {
-  const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights);
+                                              std::span<const glm::vec3> normals,
+                                              std::uint32_t maxDepth) const {
+  reference::PathTracerSettings settings;
+  settings.maxDepth = maxDepth;
+  const reference::PathTracer tracer(*sc_.scene.triangles, sc_.scene.lights, settings);
   std::vector<glm::vec3> out;
   for (const auto& x :
        reference::cachedIrradiance(sc_.opt.out / "reference", tracer, positions, normals,

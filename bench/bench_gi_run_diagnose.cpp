@@ -107,7 +107,7 @@ void ConfigRun::diagnoseRays(SceneReport& into) {
   into.diagnosis += diagnosisMarkdown(d, std::size_t(cfg_.cascades)) + nearText;
   diagnoseProbeIrradiance(into);
   diagnoseCascadesAlone(into);
-  diagnoseAwayFromSurfaces(into);
+  diagnoseAwayFromSurfaces(into, false);
   diagnoseNearField(into);
 }
 
@@ -415,8 +415,10 @@ void ConfigRun::diagnoseFrameAgainstStored(SceneReport& into, const RayCompariso
       if (sw <= 0) continue;
       frameOurs.push_back(3.14159265 * so / sw);
       frameRef.push_back(3.14159265 * sr / sw);
-      q.push_back(
-          {glm::vec4(p.stack, float(1 + p.cascade)), glm::vec4(a, 0.0f), glm::vec4(a, 0.0f)});
+      // The probe's own value: at its grid point in its cascade alone, with a view of -a/4
+      // that cancels the self-shadow bias (0.2 n + 0.8 view), so trilinear gives it all.
+      q.push_back({glm::vec4(p.stack - glm::vec3(data[g]), float(1 + p.cascade)),
+                   glm::vec4(a, 0.0f), glm::vec4(-0.25f * a, 0.0f)});
     }
   }
   if (!q.empty()) {
@@ -540,12 +542,15 @@ void ConfigRun::diagnoseRayRadiance(SceneReport& into) {
   diagnoseSunlitHits(into, c, img, embree);
   diagnoseFrameAgainstStored(into, c);
   writeRayTable(into, c);
+  diagnoseAwayFromSurfaces(into, true);
 }
 // --diagnose: the receivers moved off their surface along the normal by one probe spacing of
 // their sampling cascade (in free space, up to 4096 of them), GI against the reference there.
 // Near the probes-themselves ratio while the receivers' is not: the loss is in sampling next
 // to surfaces; as low as the receivers': it is regional, in what the nearby probes gather.
-void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
+// oneBounce (on the bounceGain-0 run): against the one-bounce reference instead.
+void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into, bool oneBounce) {
+  const std::uint32_t depth = oneBounce ? 1u : 64u;
   if (sc_.points.reference.empty()) return;
   const CascadeStackImage img = st_.stack->stackImage();
   const probe::ProbeFieldFrame f = frameConstants(img);
@@ -573,13 +578,15 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
   }
   if (moved.empty()) return;
   const std::vector<glm::vec3> e = gi_.irradiance(moved);
-  const std::vector<glm::vec3> ref = referenceAt(positions, normals);
+  const std::vector<glm::vec3> ref = referenceAt(positions, normals, depth);
   // Perfect probes: the reference at the 8 grid corners of each moved receiver's cage (up to
   // 1024 receivers), with its normal, interpolated trilinearly. Near the reference there: the
   // probe grid can represent the field at the receivers, and any loss is in the probes' values.
   const std::vector<std::uint32_t> picks2 = samplingCascades(f.volumes, moved);
   const std::size_t m = std::min<std::size_t>(moved.size(), 1024);
   std::vector<glm::vec3> cornerAt, cornerNormal, alpha;
+  std::vector<gpu_shared::ProbeQuery> cornerQuery;
+  std::vector<std::uint32_t> cornerProbe;
   for (std::size_t k = 0; k < m; ++k) {
     const gpu_shared::ProbeVolume& v = f.volumes[picks2[k]];
     const glm::vec3 g =
@@ -591,16 +598,55 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
       const glm::vec3 st = glm::vec3(v.originSpacing) + lc * v.originSpacing.w;
       cornerAt.push_back(glm::vec3(img.cascade0MinWorld + glm::dvec3(st) * img.voxelSize0));
       cornerNormal.push_back(normals[k]);
+      // The probe's own value: a query at its grid point in its cascade alone, with a view of
+      // -n/4 that cancels the self-shadow bias (0.2 n + 0.8 view), so trilinear gives it all.
+      cornerQuery.push_back({glm::vec4(st, float(1 + picks2[k])), glm::vec4(normals[k], 0.0f),
+                             glm::vec4(-0.25f * normals[k], 0.0f)});
+      const glm::ivec3 counts(v.countsRays);
+      const glm::ivec3 storage = (glm::ivec3(lc) + glm::ivec3(v.scroll)) % counts;
+      cornerProbe.push_back(
+          picks2[k] * cfg_.probes.probesPerVolume() +
+          std::uint32_t(storage.x + counts.x * (storage.y + counts.y * storage.z)));
     }
   }
-  const std::vector<glm::vec3> atCorners = referenceAt(cornerAt, cornerNormal);
-  double ideal = 0, refFirst = 0, giFirst = 0;
-  std::vector<glm::vec3> idealAt(m);
+  const std::vector<glm::vec3> atCorners = referenceAt(cornerAt, cornerNormal, depth);
+  const std::vector<glm::vec3> ourCorners = gi_.irradiance(cornerQuery);
+  {  // corner by corner, our probe against the reference at its grid point: moved or not
+    const std::vector<glm::vec4> data = gi_.probes().downloadProbeData();
+    double o[2] = {}, r[2] = {};
+    std::size_t count[2] = {};
+    for (std::size_t i = 0; i < ourCorners.size(); ++i) {
+      if (luminance(ourCorners[i]) <= 0.0) continue;
+      const int moved = glm::length(glm::vec3(data[cornerProbe[i]])) > 0.01f ? 1 : 0;
+      o[moved] += luminance(ourCorners[i]);
+      r[moved] += luminance(atCorners[i]);
+      ++count[moved];
+    }
+    std::printf(
+        "    diagnose: corner probes against the reference at their grid points: in place "
+        "%zu, %.3f; relocated %zu, %.3f\n",
+        count[0], r[0] > 0 ? o[0] / r[0] : 0.0, count[1], r[1] > 0 ? o[1] / r[1] : 0.0);
+  }
+  double ideal = 0, refFirst = 0, giFirst = 0, ours = 0;
+  std::size_t dark = 0;
+  std::vector<glm::vec3> idealAt(m), oursAt(m);
   for (std::size_t k = 0; k < m; ++k) {
-    glm::vec3 sum(0.0f);
-    for (std::uint32_t corner = 0; corner < 8; ++corner)
-      sum += probe::trilinearWeight(alpha[k], corner) * atCorners[k * 8 + corner];
+    glm::vec3 sum(0.0f), own(0.0f);
+    float ownWeight = 0.0f;
+    for (std::uint32_t corner = 0; corner < 8; ++corner) {
+      const float w = probe::trilinearWeight(alpha[k], corner);
+      sum += w * atCorners[k * 8 + corner];
+      // A probe that is off (or never updated) reads black: left out, as sampling leaves it.
+      if (luminance(ourCorners[k * 8 + corner]) <= 0.0) {
+        ++dark;
+        continue;
+      }
+      own += w * ourCorners[k * 8 + corner];
+      ownWeight += w;
+    }
     idealAt[k] = sum;
+    oursAt[k] = ownWeight > 0.0f ? own / ownWeight : glm::vec3(0.0f);
+    ours += luminance(oursAt[k]);
     ideal += luminance(sum);
     refFirst += luminance(ref[k]);
     giFirst += luminance(e[k]);
@@ -610,24 +656,31 @@ void ConfigRun::diagnoseAwayFromSurfaces(SceneReport& into) {
   const std::span<const glm::vec3> refM(ref.data(), m), giM(e.data(), m);
   const double idealRelMse = reference::relMSE(idealAt, refM);
   const double giRelMse = reference::relMSE(giM, refM);
+  const double oursRelMse = reference::relMSE(oursAt, refM);
   const std::vector<glm::vec3> atSurface = gi_.irradiance(sc_.queries);
   double giAway = 0, refAway = 0, giHere = 0, refHere = 0;
   for (std::size_t k = 0; k < e.size(); ++k) {
     giAway += luminance(e[k]);
     refAway += luminance(ref[k]);
     giHere += luminance(atSurface[source[k]]);
-    refHere += luminance(sc_.points.reference[source[k]]);
+    refHere += luminance(oneBounce ? sc_.points.referenceOneBounce[source[k]]
+                                   : sc_.points.reference[source[k]]);
   }
-  char s[700];
-  std::snprintf(s, sizeof s,
-                "\nReceivers moved one probe spacing off their surface along the normal (%zu "
-                "with a free way out): GI/reference there %.3f; the same receivers on their "
-                "surface %.3f. Perfect probes (the reference at the cage corners, "
-                "interpolated; %zu receivers): /reference %.3f, and the GI / perfect probes "
-                "%.3f; relMSE against the reference there: perfect probes %.4f, the GI %.4f.\n",
-                e.size(), refAway > 0 ? giAway / refAway : 0.0,
-                refHere > 0 ? giHere / refHere : 0.0, m, refFirst > 0 ? ideal / refFirst : 0.0,
-                ideal > 0 ? giFirst / ideal : 0.0, idealRelMse, giRelMse);
+  char s[900];
+  std::snprintf(
+      s, sizeof s,
+      "\n%sReceivers moved one probe spacing off their surface along the normal (%zu "
+      "with a free way out): GI/reference there %.3f; the same receivers on their "
+      "surface %.3f. Perfect probes (the reference at the cage corners, "
+      "interpolated; %zu receivers): /reference %.3f, and the GI / perfect probes "
+      "%.3f; relMSE against the reference there: perfect probes %.4f, the GI %.4f. "
+      "Our probes' own values at those corners, interpolated trilinearly with no "
+      "visibility (%zu of %zu corners read black, left out): /reference %.3f, relMSE "
+      "%.4f.\n",
+      oneBounce ? "One bounce (the bounceGain-0 field against the one-bounce reference): " : "",
+      e.size(), refAway > 0 ? giAway / refAway : 0.0, refHere > 0 ? giHere / refHere : 0.0, m,
+      refFirst > 0 ? ideal / refFirst : 0.0, ideal > 0 ? giFirst / ideal : 0.0, idealRelMse,
+      giRelMse, dark, m * 8, refFirst > 0 ? ours / refFirst : 0.0, oursRelMse);
   std::printf("    diagnose:%s", s + 1);
   into.diagnosis += s;
 }
