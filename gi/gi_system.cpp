@@ -191,8 +191,8 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   const bool firstLights = lightsVersion_ == ~std::uint64_t(0);
   const bool lightsDrifted =
       lightsChanged && !firstLights && isLightDrift(lastLights_, lights, lightDrift_);
-  if (lightsChanged && !firstLights && !lightsDrifted)
-    catchUpFramesLeft_ = lightSwitchCatchUpFrames_;
+  // The first lights too: a new field's bounces build up one an update, as after a switch.
+  if (lightsChanged && !lightsDrifted) catchUpFramesLeft_ = lightSwitchCatchUpFrames_;
   if (lightsChanged) lastLights_ = lights;
   lightsVersion_ = lights.version;
   lightCount_ = lights.lights.size();

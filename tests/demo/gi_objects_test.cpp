@@ -214,7 +214,7 @@ TEST_F(DemoGiObjectsTest, HoveringObjectCastsIndirectShadow) {
   SceneLights lights = test::demoGiLights();
   lights.sky = SceneSky{glm::vec3(0.5f, 0.6f, 0.8f), glm::vec3(0.5f, 0.6f, 0.8f)};
   const Camera camera = test::demoGiCamera();
-  constexpr int kW = 128, kH = 96, kGiFrames = 12;
+  constexpr int kW = 128, kH = 96, kGiFrames = 40;
   ObjectLibrary library(kSdf);
   InstanceSet instances;
   // 1.2 x 0.3 x 1.2 m, 0.35 m above the floor (centre at 0.5 m), in front of the pillar.
