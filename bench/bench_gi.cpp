@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <optional>
 
 #include "bench/bench_gi_configs.h"
@@ -12,6 +13,7 @@
 #include "bench/bench_gi_report.h"
 #include "bench/bench_gi_run.h"
 #include "bench/bench_gi_scenes.h"
+#include "bench/gpu_clock_warmup.h"
 #include "core/stopwatch.h"
 #include "demo/frame_image.h"
 #include "gi/probe_field_frame.h"
@@ -363,18 +365,34 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
   if (opt.gpuTable) {  // the stack of the default's cascades
     const auto it = stacks.find(scene->defaultCascades);
     const StreamedStack& st = it != stacks.end() ? it->second : stacks.rbegin()->second;
-    rep.primary = primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height, 8);
+    rep.primary = primaryTraceTiming(ctx, *scene, *st.stack, st.allSlots, opt.width, opt.height);
     const PrimaryTraceTiming& p = rep.primary;
     std::printf(
-        "  primary rays: %zu, %.3f ms (%.3f-%.3f), %.1f steps a ray (surface %.1f, band %.1f, "
+        "  primary rays: %zu, %.3f ms (%.3f-%.3f; %.3f cold, warm-up %.1f s%s), %.1f steps a ray "
+        "(surface %.1f, band %.1f, "
         "clamped "
         "%.1f, empty pages %.1f, missing %.1f; CPU steps %s)\n",
-        p.rays, p.milliseconds, p.minMilliseconds, p.maxMilliseconds, p.meanSteps, p.stepsByKind[0],
+        p.rays, p.milliseconds, p.minMilliseconds, p.maxMilliseconds, p.coldMilliseconds,
+        p.warmupSeconds, p.settled ? "" : ", not settled", p.meanSteps, p.stepsByKind[0],
         p.stepsByKind[1], p.stepsByKind[2], p.stepsByKind[3], p.stepsByKind[4],
         p.cpuStepsEqual ? "equal" : "differ");
   }
 
-  SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}, {}, {}};
+  SceneContext sc{ctx, opt, *scene, stacks, points, {}, {}, {}, {}, {}, {}};
+  std::unique_ptr<GpuStackTracer> warmTracer;
+  std::unique_ptr<GpuClockWarmup> warmup;
+  if (opt.gpuTable) {  // the primary rays again, as the work that brings the clocks up
+    const StreamedStack& st = stacks.rbegin()->second;
+    warmTracer = std::make_unique<GpuStackTracer>(ctx, *st.stack);
+    warmTracer->sync(*st.stack, st.allSlots);
+    warmup = std::make_unique<GpuClockWarmup>(
+        *warmTracer, streamCameraRays(*scene, *st.stack, opt.width, opt.height));
+    sc.warmGpu = [&warmup] {
+      const GpuClockWarmup::Result w = warmup->run(1.0);
+      std::printf("    GPU warm-up: %d batches, %.1f s, a dispatch %.3f -> %.3f ms%s\n", w.batches,
+                  w.seconds, w.firstMs, w.lastMs, w.settled ? "" : " (not settled)");
+    };
+  }
   addQueries(sc, stacks.begin()->second.stack->stackImage(), scene->voxelSize);
   runConfigs(sc, run, sceneDir, rep);
   rep.seconds = secondsSince(start);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bench/gpu_clock_warmup.h"
 #include "demo/frame_image.h"
 #include "gi/camera.h"
 #include "gi/cpu_tracer.h"
@@ -118,15 +119,21 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
   return v;
 }
 
+std::vector<gpu_shared::TraceRay> streamCameraRays(const BenchScene& scene,
+                                                   const CascadeStack& stack, int width,
+                                                   int height) {
+  const CascadeStackImage img = stack.stackImage();
+  const Camera cam = streamViewCamera(scene);
+  return primaryRaysFrom(cam, width, height, img.toStack(cam.position));
+}
+
 PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,
                                       const CascadeStack& stack,
-                                      std::span<const std::uint32_t> slots, int width, int height,
-                                      int repeats) {
+                                      std::span<const std::uint32_t> slots, int width, int height) {
   GpuStackTracer tracer(ctx, stack);
   tracer.sync(stack, slots);
   const CascadeStackImage img = stack.stackImage();
-  const Camera cam = streamViewCamera(scene);
-  const auto rays = primaryRaysFrom(cam, width, height, img.toStack(cam.position));
+  const auto rays = streamCameraRays(scene, stack, width, height);
   PrimaryTraceTiming t;
   t.rays = rays.size();
   // The warm-up counts the hits and steps, and checks them against the CPU reference.
@@ -140,22 +147,20 @@ PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene
     t.cpuStepsEqual = cpu[r].steps == hits[r].steps;
   for (std::size_t k = 0; k < kinds.steps.size(); ++k)
     t.stepsByKind[k] = double(kinds.steps[k]) / double(std::max<std::size_t>(1, rays.size()));
-  // Timed in one submission of 3 x repeats dispatches back to back, the median of the last
-  // `repeats`: the CPU reference above leaves the GPU idle for seconds, and a GPU back from idle
-  // runs its first milliseconds at a low clock (an H100 measured this pass at 0.59 and at
-  // 3.36 G rays/s, to three digits each, in separate dispatches with readbacks between them).
-  const std::uint32_t timed = std::uint32_t(std::clamp(repeats, 1, 20));
-  tracer.trace(rays, TraceSettings{}, 3 * timed);
-  std::vector<double> ms;
-  for (const gpu::PassTiming& pt : tracer.lastTimings())
-    if (pt.name == "trace_stack") ms.push_back(pt.milliseconds);
-  if (ms.size() >= timed) {
-    ms.erase(ms.begin(), ms.end() - std::ptrdiff_t(timed));
+  // Timed once the clocks are up (bench/gpu_clock_warmup.h): the CPU reference above leaves the
+  // GPU idle for seconds. The timing is the warm-up's last batch, dispatches back to back.
+  GpuClockWarmup warmup(tracer, rays);
+  const GpuClockWarmup::Result w = warmup.run();
+  std::vector<double> ms = warmup.lastBatch();
+  if (!ms.empty() && w.lastMs > 0.0) {
     std::sort(ms.begin(), ms.end());
     t.milliseconds = ms[ms.size() / 2];
     t.minMilliseconds = ms.front();
     t.maxMilliseconds = ms.back();
-    t.timedDispatches = timed;
+    t.timedDispatches = std::uint32_t(ms.size());
+    t.coldMilliseconds = w.firstMs;
+    t.warmupSeconds = w.seconds;
+    t.settled = w.settled;
   }
   return t;
 }

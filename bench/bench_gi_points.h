@@ -49,14 +49,18 @@ ViewPoints sdfVisiblePoints(gpu::Context& ctx, const BenchScene& scene, const Ca
 // Primary-ray SDF traversal alone (trace_stack.comp, no shading): width × height rays from the
 // scene's stream camera (inside every cascade, unlike the reference's views, which may look in
 // from outside the stack) along its view direction, 60° vertical field of view: the GPU time of
-// the pass (median of the last `repeats` (1..20) of 3 × repeats dispatches in one submission,
-// after one warm-up traced apart) and how many rays hit, and
+// the pass once the GPU's clocks are up (bench/gpu_clock_warmup.h; the median of the warm-up's
+// last batch of dispatches back to back) and how many rays hit, and
 // the steps they took. The real-GPU table reports it as rays per second, the traversal's own
 // throughput.
+// The stream camera's width × height primary rays in the stack's frame (primaryTraceTiming's).
+std::vector<gpu_shared::TraceRay> streamCameraRays(const BenchScene& scene,
+                                                   const CascadeStack& stack, int width,
+                                                   int height);
+
 PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene,
                                       const CascadeStack& stack,
-                                      std::span<const std::uint32_t> slots, int width, int height,
-                                      int repeats);
+                                      std::span<const std::uint32_t> slots, int width, int height);
 
 // albedo/π·E per pixel of view `k` (black where the view sees the sky); e: one per point.
 std::vector<glm::vec3> shadedImage(const ViewPoints& v, std::size_t k,

@@ -22,7 +22,10 @@ struct PrimaryTraceTiming {
   std::size_t rays = 0, hits = 0;
   double milliseconds = 0.0;  // median of the timed dispatches; 0: the device has no timestamps
   double minMilliseconds = 0.0, maxMilliseconds = 0.0;  // their spread
-  std::uint32_t timedDispatches = 0;  // the median's count (after twice as many to warm up)
+  std::uint32_t timedDispatches = 0;  // the median's count: the warm-up's last batch
+  double coldMilliseconds = 0.0;      // the warm-up's first dispatch (the clock it found)
+  double warmupSeconds = 0.0;
+  bool settled = false;       // the warm-up's last two batches agreed (else it ran out of time)
   double meanSteps = 0.0;     // sphere-tracing steps per ray over every cascade
   double p99Steps = 0.0;
   double groupStepsRows = 0.0;   // mean over rays of their 32-ray group's most steps, rows

@@ -383,6 +383,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   const GiFrameStats first = run.step();
   r.lightRelightMs = first.lightMilliseconds;
   for (int i = 1; i < opt.warmup; ++i) run.step();
+  if (sc.warmGpu) sc.warmGpu();
   const std::vector<glm::vec3> e = run.measure(r);
   if (!sc.points.reference.empty()) score(sc.points, e, r);
   if (opt.gpuTable) {

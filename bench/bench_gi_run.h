@@ -3,6 +3,7 @@
 // the error against the reference, the traversal peers (optional) and the light switch.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct SceneContext {
   // The same queries as images (views × width × height, row by row; pixels without a point
   // have a zero normal), for sampling at half resolution (GiConfig::halfResolution).
   std::vector<gpu_shared::ProbeQuery> imageQueries;
+  // --gpu-table: brings the GPU's clocks up (bench/gpu_clock_warmup.h) before a configuration's
+  // timed frames; empty otherwise.
+  std::function<void()> warmGpu;
 };
 
 // Where runConfig reports what it measures beyond its result row (null: not measured).

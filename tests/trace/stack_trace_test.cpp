@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "bench/gpu_clock_warmup.h"
 #include "gi/camera.h"
 #include "gi/gpu_stack_tracer.h"
 #include "reference/embree_scene.h"
@@ -188,6 +189,30 @@ TEST_F(StackTrace, BackToBackDispatchesReturnTheSameHits) {
   EXPECT_GT(hits, 500);
   EXPECT_THROW(gpuTracer.trace(rays, TraceSettings{}, 0), std::invalid_argument);
   EXPECT_THROW(gpuTracer.trace(rays, TraceSettings{}, 61), std::invalid_argument);
+}
+
+// The real-GPU table's clock warm-up (bench/gpu_clock_warmup.h): batches of the same traversal
+// until two agree, then the last batch is the timing; it keeps going at least minSeconds.
+TEST_F(StackTrace, ClockWarmupRunsUntilTwoBatchesAgree) {
+  StreamedBunny b = streamBunny();
+  CascadeStackImage img = b.stack->stackImage();
+  auto rays = raysFromCamera(b, img, 2000);
+  GpuStackTracer gpuTracer(ctx(), *b.stack);
+  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  gpuTracer.sync(*b.stack, all);
+  bench::GpuClockWarmup warmup(gpuTracer, rays, 5.0);
+  const bench::GpuClockWarmup::Result r = warmup.run(0.3, 20.0, 0.5);
+  std::printf("[figures] warm-up: %d batches, %.2f s, a dispatch %.3f -> %.3f ms, last batch %zu\n",
+              r.batches, r.seconds, r.firstMs, r.lastMs, warmup.lastBatch().size());
+  EXPECT_GE(r.batches, 2);
+  EXPECT_GE(r.seconds, 0.3);
+  EXPECT_TRUE(r.settled) << "lavapipe's dispatches of one traversal agree within 50%";
+  ASSERT_FALSE(warmup.lastBatch().empty());
+  EXPECT_GT(r.lastMs, 0.0);
+  EXPECT_DOUBLE_EQ(r.lastMs, bench::medianMilliseconds(warmup.lastBatch()));
+  bench::GpuClockWarmup nothing(gpuTracer, {});
+  EXPECT_EQ(nothing.run(0.1).batches, 0);
 }
 
 TEST(StackTraceCpu, MissingPagesFallBackToACoarserCascade) {
