@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 
 #include "bench/gpu_clock_warmup.h"
 #include "gi/camera.h"
@@ -20,11 +21,11 @@
 namespace sdfstream {
 namespace {
 
-using test::StreamedBunny;
 using test::streamBunny;
+using test::StreamedBunny;
 
-std::vector<gpu_shared::TraceRay> raysFromCamera(const StreamedBunny& b, const CascadeStackImage& img,
-                                                 int count) {
+std::vector<gpu_shared::TraceRay> raysFromCamera(const StreamedBunny& b,
+                                                 const CascadeStackImage& img, int count) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   glm::dvec3 lo(b.triangles.boundsMin()), hi(b.triangles.boundsMax());
@@ -80,6 +81,15 @@ FaceRays raysAlongPageFaces(const StreamedBunny& b, const CascadeStackImage& img
 
 class StackTrace : public test::GpuTest {};
 
+// A GPU tracer of the streamed stack with every atlas slot uploaded.
+std::unique_ptr<GpuStackTracer> tracerWithEverySlot(gpu::Context& ctx, const StreamedBunny& b) {
+  auto tracer = std::make_unique<GpuStackTracer>(ctx, *b.stack);
+  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  tracer->sync(*b.stack, all);
+  return tracer;
+}
+
 TEST_F(StackTrace, GpuMatchesCpuAndEmbreeThroughStreamedCascades) {
   StreamedBunny b = streamBunny();
   CascadeStackImage img = b.stack->stackImage();
@@ -107,9 +117,10 @@ TEST_F(StackTrace, GpuMatchesCpuAndEmbreeThroughStreamedCascades) {
     ++perCascade[(cpu[i].flags >> gpu_shared::kHitCascadeShift) & 15];
     if (std::abs(gpu[i].normalT.w - cpu[i].normalT.w) > 1e-3f) ++beyond;
   }
-  std::printf("[figures] stack GPU vs CPU: %zu rays, %d hits (per cascade %d/%d/%d), %d flag "
-              "mismatches, %d beyond 1e-3 voxel\n",
-              rays.size(), hits, perCascade[0], perCascade[1], perCascade[2], mismatched, beyond);
+  std::printf(
+      "[figures] stack GPU vs CPU: %zu rays, %d hits (per cascade %d/%d/%d), %d flag "
+      "mismatches, %d beyond 1e-3 voxel\n",
+      rays.size(), hits, perCascade[0], perCascade[1], perCascade[2], mismatched, beyond);
   EXPECT_EQ(mismatched, 0);
   EXPECT_EQ(beyond, 0);
   EXPECT_GT(hits, 3000);
@@ -133,9 +144,10 @@ TEST_F(StackTrace, GpuMatchesCpuAndEmbreeThroughStreamedCascades) {
   }
   std::sort(dt.begin(), dt.end());
   double median = dt[dt.size() / 2];
-  std::printf("[figures] stack vs Embree: agreement %.3f%% of %d non-grazing rays, median |dt| "
-              "%.3f hit-cascade voxels, p90 %.3f\n",
-              100.0 * agree / considered, considered, median, dt[dt.size() * 9 / 10]);
+  std::printf(
+      "[figures] stack vs Embree: agreement %.3f%% of %d non-grazing rays, median |dt| "
+      "%.3f hit-cascade voxels, p90 %.3f\n",
+      100.0 * agree / considered, considered, median, dt[dt.size() * 9 / 10]);
   EXPECT_GE(double(agree) / considered, 0.98);
   EXPECT_LE(median, 0.5);
 }
@@ -147,10 +159,8 @@ TEST_F(StackTrace, GpuRaysAlongAPageFaceMatchTheCpu) {
   const FaceRays rays = raysAlongPageFaces(b, img);
   ASSERT_GT(rays.onFace.size(), 200u);
   auto cpu = traceStackCpu(img, rays.onFace, TraceSettings{});
-  GpuStackTracer gpuTracer(ctx(), *b.stack);
-  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
-  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-  gpuTracer.sync(*b.stack, all);
+  const auto tracer = tracerWithEverySlot(ctx(), b);
+  GpuStackTracer& gpuTracer = *tracer;
   auto gpu = gpuTracer.trace(rays.onFace, TraceSettings{});
   int mismatched = 0, hits = 0;
   for (size_t i = 0; i < rays.onFace.size(); ++i) {
@@ -169,10 +179,8 @@ TEST_F(StackTrace, BackToBackDispatchesReturnTheSameHits) {
   StreamedBunny b = streamBunny();
   CascadeStackImage img = b.stack->stackImage();
   auto rays = raysFromCamera(b, img, 2000);
-  GpuStackTracer gpuTracer(ctx(), *b.stack);
-  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
-  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-  gpuTracer.sync(*b.stack, all);
+  const auto tracer = tracerWithEverySlot(ctx(), b);
+  GpuStackTracer& gpuTracer = *tracer;
   const auto once = gpuTracer.trace(rays, TraceSettings{});
   const auto thrice = gpuTracer.trace(rays, TraceSettings{}, 3);
   int timed = 0;
@@ -197,10 +205,8 @@ TEST_F(StackTrace, ClockWarmupRunsUntilTwoBatchesAgree) {
   StreamedBunny b = streamBunny();
   CascadeStackImage img = b.stack->stackImage();
   auto rays = raysFromCamera(b, img, 2000);
-  GpuStackTracer gpuTracer(ctx(), *b.stack);
-  std::vector<std::uint32_t> all(b.stack->options().atlasSlots);
-  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-  gpuTracer.sync(*b.stack, all);
+  const auto tracer = tracerWithEverySlot(ctx(), b);
+  GpuStackTracer& gpuTracer = *tracer;
   bench::GpuClockWarmup warmup(gpuTracer, rays, 5.0);
   const bench::GpuClockWarmup::Result r = warmup.run(0.3, 20.0, 0.5);
   std::printf("[figures] warm-up: %d batches, %.2f s, a dispatch %.3f -> %.3f ms, last batch %zu\n",
