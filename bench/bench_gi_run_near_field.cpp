@@ -232,7 +232,9 @@ std::string ConfigRun::nearFieldApart(
     }
     triCache[r] = sum * (3.14159265f / float(rays));
   }
-  // The SDF version's rays: from one voxel of the receiver's cascade off it, through the stack.
+  // The first SDF version's rays: from one voxel of the receiver's cascade off it along the
+  // normal, through the stack (the shader now starts at the receiver and skips the proud shell
+  // along each ray; this diagnosis keeps the first start, which measured what it costs).
   std::vector<gpu_shared::TraceRay> traced(m * rays);
   std::vector<std::uint32_t> first(m * rays, 0u);
   std::vector<float> reachOf(m);
@@ -389,16 +391,17 @@ std::string ConfigRun::nearFieldApart(
     kinds += c2;
   }
   char row[2000];
-  std::snprintf(row, sizeof row,
-                "\nThe SDF version's gap, taken apart at R = 1 spacing (relMSE / E/E_ref): the "
-                "triangles with the light cache's cell at each hit %s (%zu hits without a "
-                "resident cell); the triangles from the SDF version's start (one voxel off), "
-                "exact light, %s; the SDF's own rays (through the stack; %.1f%% hit) with the "
-                "exact direct light %s, with the light cache's cells %s. Ray by ray against the "
-                "triangles from the same start: %s.\n",
-                cell(triCache).c_str(), noCell, cell(triFromStart).c_str(),
-                100.0 * double(sdfHits) / double(std::max<std::size_t>(1, total)),
-                cell(sdfExact).c_str(), cell(sdfCache).c_str(), kinds.c_str());
+  std::snprintf(
+      row, sizeof row,
+      "\nThe SDF version's gap, taken apart at R = 1 spacing (relMSE / E/E_ref): the "
+      "triangles with the light cache's cell at each hit %s (%zu hits without a "
+      "resident cell); the triangles from the first SDF version's start (one voxel off), "
+      "exact light, %s; the SDF's own rays from there (through the stack; %.1f%% hit) with the "
+      "exact direct light %s, with the light cache's cells %s. Ray by ray against the "
+      "triangles from the same start: %s.\n",
+      cell(triCache).c_str(), noCell, cell(triFromStart).c_str(),
+      100.0 * double(sdfHits) / double(std::max<std::size_t>(1, total)), cell(sdfExact).c_str(),
+      cell(sdfCache).c_str(), kinds.c_str());
   std::printf("    diagnose:%s", row + 1);
   return row;
 }

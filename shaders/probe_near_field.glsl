@@ -14,8 +14,8 @@
 //    shaders/probe_trace.glsl, but with the SDF visibility test where the settings have it:
 //    Breakfast Room relMSE 0.128 -> 0.117 in `bench gi --quick`);
 //  - a backface hit (the ray started inside geometry) brings nothing; a hit within half a voxel
-//    (a receiver in a crease) is left out, and a receiver with every ray left out reads the
-//    field as plain sampling does;
+//    of the ray's start (a receiver in a crease) is left out, and a receiver with every ray left
+//    out reads the field as plain sampling does;
 //  - a miss brings the field's irradiance at the ray's end, facing back along the ray, over pi:
 //    the radiance arriving along the ray, exact where the light there is uniform (SDF
 //    visibility as sampling has it: 0.149 -> 0.128 there).
@@ -26,7 +26,9 @@
 // less (the SDF's near geometry, measured apart from the light cache), costs the Cornell box
 // and the Breakfast Room accuracy, and is ~170x the sampling pass on an H100 (16 rays, 1080p:
 // 259 ms). So it is off by default (ProbeFieldSettings::nearFieldRays; docs/DECISIONS.md, "A
-// near-field gather"; docs/GPU_BUDGET.md).
+// near-field gather"; docs/GPU_BUDGET.md). Starting the rays at the receiver (below) instead of
+// a voxel off it took 16 rays' quick-mode relMSE from 0.1265 to 0.1077 (Breakfast Room) and
+// 0.1518 to 0.1464 (Sponza; the default without it 0.2028), 0.0209 to 0.0220 (Cornell box).
 
 // ProbeFrame::bounce.w: bits 0-7 rays per query (0: off), bits 8-15 the reach in eighths of a
 // probe spacing.
@@ -76,21 +78,28 @@ vec3 probeNearFieldIrradiance(ProbeFrame f, vec3 x, vec3 n) {
   uint c = probeNearFieldCascade(f, x);
   float reach = probeNearFieldReach(f) * PROBE_VOLUME(c).originSpacing.w;
   float turn = probeNearFieldTurn(f, x);
-  // The rays start one voxel of that cascade off the receiver along its normal: a renderer's
-  // receiver lies on the SDF's surface (an open sheet's is half a voxel off its triangles, and
-  // `bench gi` queries sit there), where every ray would hit at once; a coarse cascade's surface
-  // stands up to a voxel proud of the fine one (the min-filtered LODs).
-  vec3 o = x + n * SDF_CASCADE(c).offsetScale.w;
+  // The rays start at the receiver. It lies on the triangles, inside the SDF's surface where that
+  // stands proud (an open sheet's shell by half a voxel, a coarse cascade's min-filtered surface
+  // by up to one of its voxels), where every ray would hit at once. So each ray skips the depth
+  // the receiver lies inside, plus half a voxel of the cascade, over its cosine to the normal:
+  // where a flat proud surface ends along that ray. Starting one voxel off along the normal
+  // instead (the first version) lost contact occlusion: the oracle on the triangles from that
+  // start read the Breakfast Room's relMSE 0.0870 against 0.0510 from the receiver.
+  vec3 o = x + n * 0.05f;
+  ProbeSdf at = probeSdfAt(0u, f.counts.x, o);
+  float inside = max(0.0f, -at.distance) + 0.5f * SDF_CASCADE(c).offsetScale.w;
   vec3 sum = vec3(0.0f);
   uint used = 0u;
   for (uint k = 0u; k < count; ++k) {
     vec3 d = probeNearFieldDirection(n, k, count, turn);
-    SdfStackResult s = sdfTraceStackFrom(o, d, 0.0f, reach, f.options.w, f.trace.x, 0u, f.counts.x);
+    float tStart = min(inside / max(dot(d, n), 0.25f), 0.5f * reach);
+    SdfStackResult s =
+        sdfTraceStackFrom(o, d, tStart, reach, f.options.w, f.trace.x, 0u, f.counts.x);
     // A hit within half a voxel: the receiver sits in a concave crease, a hair from the other
     // face, where the hit's cell and normal belong to both faces (a white furnace's receiver
     // 0.04 voxel from a second wall read 50% dark, or, every ray hitting at once, black). Such
     // rays say nothing the SDF can resolve; the others stand for them.
-    if (s.r.hit && s.t0 < 0.5f) continue;
+    if (s.r.hit && s.t0 < tStart + 0.5f) continue;
     used += 1u;
     if (s.r.hit) {
       vec3 hn = sdfNormal(s.r.position, SDF_CASCADE(s.cascade).toroidal);
