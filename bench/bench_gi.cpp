@@ -168,9 +168,6 @@ void addQueries(SceneContext& sc, const CascadeStackImage& img, double voxelSize
   }
 }
 
-// --diagnose: the default without its multi-bounce feedback (probe-ray hits shaded with their
-// direct light and emission only) against the reference capped at one surface hit -- the same
-// transport -- and what the bounces beyond add in both.
 // The receivers in five groups by their reference one-bounce luminance (darkest first): each
 // group's share of the one-bounce light, and GI/reference for one bounce and for everything. A
 // loss concentrated in the brightest group points at a few receivers (a window's sill, a sunlit
@@ -208,6 +205,9 @@ std::string bounceQuintiles(std::span<const glm::vec3> gi1, std::span<const glm:
   return s;
 }
 
+// --diagnose: the default without its multi-bounce feedback (probe-ray hits shaded with their
+// direct light and emission only) against the reference capped at one surface hit -- the same
+// transport -- and what the bounces beyond add in both.
 void diagnoseBounces(SceneContext& sc, const GiConfig& def, const std::vector<glm::vec3>& eFull,
                      const fs::path& sceneDir, SceneReport& rep) {
   GiConfig one = def;
@@ -369,9 +369,7 @@ SceneReport runScene(gpu::Context& ctx, const GiBenchOptions& opt, const std::st
     const PrimaryTraceTiming& p = rep.primary;
     std::printf(
         "  primary rays: %zu, %.3f ms (%.3f-%.3f; %.3f cold, warm-up %.1f s%s), %.1f steps a ray "
-        "(surface %.1f, band %.1f, "
-        "clamped "
-        "%.1f, empty pages %.1f, missing %.1f; CPU steps %s)\n",
+        "(surface %.1f, band %.1f, clamped %.1f, empty pages %.1f, missing %.1f; CPU steps %s)\n",
         p.rays, p.milliseconds, p.minMilliseconds, p.maxMilliseconds, p.coldMilliseconds,
         p.warmupSeconds, p.settled ? "" : ", not settled", p.meanSteps, p.stepsByKind[0],
         p.stepsByKind[1], p.stepsByKind[2], p.stepsByKind[3], p.stepsByKind[4],

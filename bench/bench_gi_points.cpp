@@ -151,12 +151,12 @@ PrimaryTraceTiming primaryTraceTiming(gpu::Context& ctx, const BenchScene& scene
   // GPU idle for seconds. The timing is the warm-up's last batch, dispatches back to back.
   GpuClockWarmup warmup(tracer, rays);
   const GpuClockWarmup::Result w = warmup.run();
-  std::vector<double> ms = warmup.lastBatch();
+  const std::vector<double>& ms = warmup.lastBatch();
   if (!ms.empty() && w.lastMs > 0.0) {
-    std::sort(ms.begin(), ms.end());
-    t.milliseconds = ms[ms.size() / 2];
-    t.minMilliseconds = ms.front();
-    t.maxMilliseconds = ms.back();
+    t.milliseconds = w.lastMs;  // the last batch's median
+    const auto [lo, hi] = std::minmax_element(ms.begin(), ms.end());
+    t.minMilliseconds = *lo;
+    t.maxMilliseconds = *hi;
     t.timedDispatches = std::uint32_t(ms.size());
     t.coldMilliseconds = w.firstMs;
     t.warmupSeconds = w.seconds;

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/stats.h"
+
 namespace sdfstream::bench {
 
 GpuClockWarmup::GpuClockWarmup(GpuStackTracer& tracer, std::vector<gpu_shared::TraceRay> rays,
@@ -18,12 +20,6 @@ std::vector<double> GpuClockWarmup::batch(std::uint32_t dispatches) {
   return ms;
 }
 
-double medianMilliseconds(std::vector<double> ms) {
-  if (ms.empty()) return 0.0;
-  std::sort(ms.begin(), ms.end());
-  return ms[ms.size() / 2];
-}
-
 GpuClockWarmup::Result GpuClockWarmup::run(double minSeconds, double maxSeconds, double tolerance) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -33,7 +29,7 @@ GpuClockWarmup::Result GpuClockWarmup::run(double minSeconds, double maxSeconds,
   // One dispatch first, to size the batches (lavapipe takes ~0.5 s for 2 M rays, a GPU ~1 ms).
   last_ = batch(1);
   r.batches = 1;
-  r.firstMs = r.lastMs = medianMilliseconds(last_);
+  r.firstMs = r.lastMs = median(last_);
   double previous = r.lastMs;
   while (elapsed() < maxSeconds) {
     const double each = std::max(r.lastMs, 1e-3);
@@ -41,7 +37,7 @@ GpuClockWarmup::Result GpuClockWarmup::run(double minSeconds, double maxSeconds,
         std::uint32_t(std::clamp(std::lround(batchMs_ / each), 1l, 60l));
     last_ = batch(dispatches);
     ++r.batches;
-    r.lastMs = medianMilliseconds(last_);
+    r.lastMs = median(last_);
     r.settled = previous > 0.0 && std::abs(r.lastMs - previous) <= tolerance * previous;
     previous = r.lastMs;
     if (elapsed() >= minSeconds && (r.settled || r.lastMs == 0.0)) break;

@@ -44,7 +44,4 @@ class GpuClockWarmup {
   std::vector<double> last_;
 };
 
-// The median of `ms` (0 when empty).
-double medianMilliseconds(std::vector<double> ms);
-
 }  // namespace sdfstream::bench

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "bench/gpu_clock_warmup.h"
+#include "core/stats.h"
 #include "gi/camera.h"
 #include "gi/gpu_stack_tracer.h"
 #include "reference/embree_scene.h"
@@ -216,7 +217,7 @@ TEST_F(StackTrace, ClockWarmupRunsUntilTwoBatchesAgree) {
   EXPECT_TRUE(r.settled) << "lavapipe's dispatches of one traversal agree within 50%";
   ASSERT_FALSE(warmup.lastBatch().empty());
   EXPECT_GT(r.lastMs, 0.0);
-  EXPECT_DOUBLE_EQ(r.lastMs, bench::medianMilliseconds(warmup.lastBatch()));
+  EXPECT_DOUBLE_EQ(r.lastMs, median(warmup.lastBatch()));
   bench::GpuClockWarmup nothing(gpuTracer, {});
   EXPECT_EQ(nothing.run(0.1).batches, 0);
 }
