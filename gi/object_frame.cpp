@@ -107,18 +107,20 @@ bool regionRange(const gs::ObjectFrameGpu& f, std::uint32_t c, glm::vec3 bmin, g
   return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z;
 }
 
-// The box in which a change can wake a probe, in stack space: the changed box itself and the
-// cube of half-edge r / sqrt(wakeIrradianceChange) around its centre (r: its half-diagonal,
-// which bounds the radius of the object at both ends of the move).
-// Returns the changed box's half-diagonal (stack voxels), which bounds the object's radius.
-float wakeBox(const WorldBox& box, const CascadeStackImage& stack, float invSqrtChange,
-              glm::vec3& lo, glm::vec3& hi) {
+// The ball in which a change can wake a probe, in stack space: radius r /
+// sqrt(wakeIrradianceChange) around the changed box's centre (r: its half-diagonal, which bounds
+// the radius of the object at both ends of the move; the ball holds the box, as the change is at
+// most 1). A probe beyond it sees the object cover less than wakeIrradianceChange of its
+// hemisphere, so a cube around the ball (the first rule) woke nearly twice the probes (its volume
+// over the ball's, 6 / pi) for nothing. Returns the changed box's half-diagonal (stack voxels), for
+// the size rule.
+float wakeBall(const WorldBox& box, const CascadeStackImage& stack, float invSqrtChange,
+               glm::vec3& centre, float& reach) {
   const glm::vec3 a = stack.toStack(box.min), b = stack.toStack(box.max);
-  const glm::vec3 centre = 0.5f * (a + b);
+  centre = 0.5f * (a + b);
   const float halfDiagonal = 0.5f * glm::length(b - a);
-  const float reach = halfDiagonal * invSqrtChange;
-  lo = glm::min(a, centre - reach);
-  hi = glm::max(b, centre + reach);
+  // The box's corners lie on the ball at a change of 1: a hair more keeps them inside.
+  reach = halfDiagonal * invSqrtChange * (1.0f + 1e-5f);
   return halfDiagonal;
 }
 
@@ -129,11 +131,27 @@ constexpr int kSubCells = int(gs::kRegionsPerAxis * gs::kSubCellsPerAxis);  // 6
 static_assert(kSubCells == 64, "a row of sub-cells is one 64-bit word");
 using WakeRows = std::vector<std::uint64_t>;  // kSubCells^2 rows
 
+// Distance from v to the sub-cell interval [i, i + 1] along one axis.
+float outside(float v, int i) { return std::max(0.0f, std::max(float(i) - v, v - float(i + 1))); }
+
+// Sets the bits of the sub-cells the ball touches: per row, the run its chord there covers.
 void markWakeRange(const ObjectFrameData::SubCellRange& r, WakeRows& rows) {
   if (r.empty()) return;
-  const std::uint64_t bits = (~std::uint64_t(0) >> (63 - r.hi.x)) & (~std::uint64_t(0) << r.lo.x);
-  for (int z = r.lo.z; z <= r.hi.z; ++z)
-    for (int y = r.lo.y; y <= r.hi.y; ++y) rows[std::size_t(y + kSubCells * z)] |= bits;
+  const float r2 = r.radius * r.radius;
+  for (int z = r.lo.z; z <= r.hi.z; ++z) {
+    const float dz = outside(r.centre.z, z);
+    for (int y = r.lo.y; y <= r.hi.y; ++y) {
+      const float dy = outside(r.centre.y, y);
+      const float left = r2 - dy * dy - dz * dz;
+      if (left < 0.0f) continue;
+      const float chord = std::sqrt(left);
+      const int lo = std::max(r.lo.x, int(std::floor(r.centre.x - chord)));
+      const int hi = std::min(r.hi.x, int(std::floor(r.centre.x + chord)));
+      if (lo > hi) continue;
+      const std::uint64_t bits = (~std::uint64_t(0) >> (63 - hi)) & (~std::uint64_t(0) << lo);
+      rows[std::size_t(y + kSubCells * z)] |= bits;
+    }
+  }
 }
 
 // The rows into the regions' wake words (region.wake[sy / 4 + 2 sz], byte sy % 4 = the row of
@@ -158,7 +176,7 @@ std::uint32_t wakeRowsToRegions(const WakeRows& rows, gs::ObjectRegionGpu* regio
   return moved;
 }
 
-// Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake box
+// Sets the wake bits (and the moved flag) of every region sub-cell a changed box's wake ball
 // touches, in the cascades that list an object of the box's size (sizeRule, with the box's
 // half-diagonal for the radius: never smaller than the object's): a coarser cascade's probes
 // never see the object, so its move cannot change their irradiance. Per cascade, the boxes'
@@ -177,9 +195,11 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes, 256),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                        glm::vec3 lo, hi;
+                        glm::vec3 centre;
+                        float reach;
                         const float radius =
-                            wakeBox(out.changedBoxes[k], stack, invSqrtChange, lo, hi);
+                            wakeBall(out.changedBoxes[k], stack, invSqrtChange, centre, reach);
+                        const glm::vec3 lo = centre - reach, hi = centre + reach;
                         for (std::uint32_t c = 0; c < cascades; ++c) {
                           Range& r = out.wakeRanges[k * cascades + c];
                           r.lo = glm::ivec3(0);
@@ -196,6 +216,8 @@ void markWakeSubCells(const gs::ObjectFrameGpu& f, std::uint32_t cascades,
                             continue;
                           r.lo = glm::max(glm::ivec3(glm::floor(a)), glm::ivec3(0));
                           r.hi = glm::min(glm::ivec3(glm::floor(b)), glm::ivec3(kSubCells - 1));
+                          r.centre = (centre - glm::vec3(ro)) * inv;
+                          r.radius = reach * inv;
                         }
                       }
                     });

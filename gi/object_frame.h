@@ -28,10 +28,11 @@ struct ObjectSceneSettings {
   // A move wakes the probes whose irradiance it can change by at least this fraction (M21
   // Sec. 5, vigilant probes near dynamic changes). An object of bounding radius r seen from a
   // probe at distance d covers at most (r/d)^2 of its cosine-weighted hemisphere, so only probes
-  // within r / sqrt(wakeIrradianceChange) of the changed box's centre, or inside the box, wake,
-  // and only in the cascades whose probes see the object (sizeRule lists it there). The default is
-  // the probe field's sleep threshold: a change below it would not keep a probe awake either. 1
-  // wakes only probes inside the changed boxes; clamped to [1e-4, 1].
+  // within r / sqrt(wakeIrradianceChange) of the changed box's centre (a ball, which holds the
+  // box: r is its half-diagonal) wake, and only in the cascades whose probes see the object
+  // (sizeRule lists it there). The default is the probe field's sleep threshold: a change below it
+  // would not keep a probe awake either. 1 wakes only probes within the box's circumscribed ball;
+  // clamped to [1e-4, 1].
   float wakeIrradianceChange = 0.05f;
   // Sub-cell headers (and as many sub-cell entries) a frame may hold, uvec4 each: memory for the
   // lists a ray reads per sub-cell it crosses (object_layout.h). Regions whose lists do not fit
@@ -101,10 +102,13 @@ struct ObjectFrameData {
   // InstanceSet::changedBounds of the frame (world space; each changed instance's start and end
   // boxes as one): the light cache relights the pages they shadow, and probes near them wake.
   std::vector<WorldBox> changedBoxes;
-  // Scratch: per changed box and region cascade, its wake sub-cell range (cascade sub-cell
-  // coordinates 0..63, lo.x > hi.x when it misses the cascade). Kept to reuse its capacity.
+  // Scratch: per changed box and region cascade, its wake ball in cascade sub-cell coordinates
+  // (0..64 across the cascade) and the sub-cell range its bounding cube covers (0..63, lo.x >
+  // hi.x when it misses the cascade). Kept to reuse its capacity.
   struct SubCellRange {
     glm::ivec3 lo, hi;
+    glm::vec3 centre{0.0f};
+    float radius = 0.0f;
     bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
   };
   std::vector<SubCellRange> wakeRanges;

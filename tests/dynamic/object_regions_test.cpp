@@ -301,16 +301,17 @@ TEST_F(ObjectRegionsTest, PointsInsideAnObjectFindItListed) {
   EXPECT_EQ(notInSubCell, 0u);
 }
 
-// Each change's wake box in stack space, written out here from the rule in ObjectSceneSettings:
-// the changed box and the cube of half-edge r / sqrt(wakeIrradianceChange) around its centre.
-struct WakeBoxes {
+// Each change's wake ball in stack space, written out here from the rule in ObjectSceneSettings:
+// radius r / sqrt(wakeIrradianceChange) around the changed box's centre (lo, hi: its bounding
+// cube, which holds the box).
+struct WakeBalls {
   std::vector<glm::vec3> lo, hi, centre;
   std::vector<float> reach;
   std::vector<float> halfDiagonal;  // of the changed box: the radius the size rule is applied to
 };
-WakeBoxes wakeBoxes(const CascadeStackImage& stack, const std::vector<WorldBox>& changed,
+WakeBalls wakeBalls(const CascadeStackImage& stack, const std::vector<WorldBox>& changed,
                     float wakeIrradianceChange) {
-  WakeBoxes w;
+  WakeBalls w;
   for (const WorldBox& b : changed) {
     const glm::vec3 a = stack.toStack(b.min), z = stack.toStack(b.max);
     const glm::vec3 centre = 0.5f * (a + z);
@@ -331,14 +332,16 @@ bool wakesIn(const gs::ObjectFrameGpu& frame, std::uint32_t c, float halfDiagona
 }
 
 // The wake bits brute force would set: per box, every sub-cell of every region cascade that
-// lists its object, within a sub-cell of its wake box, tested against it (a closed box against
-// the half-open cell). Returns the words that differ from `regions` (wake words and moved
-// flags); counts the bits it sets.
-std::size_t wakeWordsDifferingFromBruteForce(const gs::ObjectFrameGpu& frame, const WakeBoxes& w,
+// lists its object, within a sub-cell of its wake ball's cube, whose nearest point to the ball's
+// centre lies in the ball. A sub-cell within 1e-4 of the ball's radius may go either way (the
+// host measures in sub-cell units, row by row). Returns the words that differ from `regions`
+// (wake words and moved flags); counts the bits it sets.
+std::size_t wakeWordsDifferingFromBruteForce(const gs::ObjectFrameGpu& frame, const WakeBalls& w,
                                              std::span<const gs::ObjectRegionGpu> regions,
                                              float sizeRule, std::size_t& bitsSet) {
   const std::uint32_t cascades = frame.counts.y;
-  std::vector<gs::ObjectRegionGpu> want(std::size_t(cascades) * gs::kRegionsPerCascade);
+  const std::size_t regionCount = std::size_t(cascades) * gs::kRegionsPerCascade;
+  std::vector<gs::ObjectRegionGpu> must(regionCount), may(regionCount);
   for (std::uint32_t c = 0; c < cascades; ++c) {
     const glm::vec4 ro = frame.regionOrigin[c];
     const float sub = ro.w / 8.0f;
@@ -352,36 +355,40 @@ std::size_t wakeWordsDifferingFromBruteForce(const gs::ObjectFrameGpu& frame, co
         for (int y = a.y; y <= z.y; ++y)
           for (int zz = a.z; zz <= z.z; ++zz) {
             const glm::vec3 cLo = glm::vec3(ro) + glm::vec3(x, y, zz) * sub, cHi = cLo + sub;
-            if (!glm::all(glm::lessThanEqual(cLo, w.hi[k])) ||
-                !glm::all(glm::lessThan(w.lo[k], cHi)))
-              continue;
-            gs::ObjectRegionGpu& r =
-                want[c * gs::kRegionsPerCascade + x / 8 + 8 * (y / 8 + 8 * (zz / 8))];
-            r.wake[y % 8 / 4 + 2 * (zz % 8)] |= 1u << (8 * (y % 8 % 4) + x % 8);
-            r.moved = 1;
+            const float d = glm::length(glm::clamp(w.centre[k], cLo, cHi) - w.centre[k]);
+            if (d > w.reach[k] * (1.0f + 1e-4f)) continue;
+            const std::size_t r = c * gs::kRegionsPerCascade + x / 8 + 8 * (y / 8 + 8 * (zz / 8));
+            const std::size_t word = y % 8 / 4 + 2 * (zz % 8);
+            const std::uint32_t bit = 1u << (8 * (y % 8 % 4) + x % 8);
+            may[r].wake[word] |= bit;
+            may[r].moved = 1;
+            if (d > w.reach[k] * (1.0f - 1e-4f)) continue;
+            must[r].wake[word] |= bit;
+            must[r].moved = 1;
           }
     }
   }
   std::size_t differ = 0;
   bitsSet = 0;
-  for (std::size_t r = 0; r < want.size(); ++r) {
-    differ += want[r].moved != regions[r].moved ? 1 : 0;
+  for (std::size_t r = 0; r < regionCount; ++r) {
+    differ += regions[r].moved < must[r].moved || regions[r].moved > may[r].moved ? 1 : 0;
     for (std::uint32_t i = 0; i < gs::kOccupancyWords; ++i) {
-      differ += want[r].wake[i] != regions[r].wake[i] ? 1 : 0;
-      bitsSet += std::size_t(std::popcount(want[r].wake[i]));
+      const std::uint32_t got = regions[r].wake[i];
+      differ += (got & ~may[r].wake[i]) != 0u || (must[r].wake[i] & ~got) != 0u ? 1 : 0;
+      bitsSet += std::size_t(std::popcount(must[r].wake[i]));
     }
   }
   return differ;
 }
 
 // The wake bits against a brute-force computation (every sub-cell of every region cascade
-// against every change's wake box, written out here from the rule in ObjectSceneSettings), on
+// against every change's wake ball, written out here from the rule in ObjectSceneSettings), on
 // a frame with additions, moves and removals; and the rule itself: every point within
 // r / sqrt(wakeIrradianceChange) of a changed box's centre wakes, and points far from every
 // change do not.
 TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   const CascadeStackImage stack = test::windowsOnlyStack(4);
-  // Small objects (0.1-0.6 m, voxel 0.25 m) spread over 40 m: their wake boxes leave most of
+  // Small objects (0.1-0.6 m, voxel 0.25 m) spread over 40 m: their wake balls leave most of
   // the cascades asleep. This frame a third move (a few far), some are removed, some added.
   test::RandomObjects objects;
   std::mt19937 rng(3);
@@ -416,7 +423,7 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   const std::vector<WorldBox> changed = objects.instances.changedBounds(objects.library);
   ASSERT_GT(changed.size(), 30u);
 
-  const WakeBoxes w = wakeBoxes(stack, changed, settings.wakeIrradianceChange);
+  const WakeBalls w = wakeBalls(stack, changed, settings.wakeIrradianceChange);
   std::size_t set = 0;
   const std::size_t differ =
       wakeWordsDifferingFromBruteForce(frame.frame, w, regions, settings.sizeRule, set);
@@ -436,7 +443,7 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
             glm::any(glm::greaterThanEqual(q, glm::vec3(8.0f))))
           continue;
         if (!wakesIn(frame.frame, c, w.halfDiagonal[j], settings.sizeRule)) {
-          // Woken only if another change's wake box, in a cascade listing it, reaches p.
+          // Woken only if another change's wake cube, in a cascade listing it, reaches p.
           bool other = false;
           for (std::size_t o = 0; o < w.lo.size() && !other; ++o)
             other = wakesIn(frame.frame, c, w.halfDiagonal[o], settings.sizeRule) &&
@@ -461,12 +468,33 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
     ++far;
     falseWakes += cpu.wakes(p, 0) ? 1 : 0;
   }
+  // The ball, not its cube: points near the cube's corners (1.56 reach from the centre), more
+  // than a sub-cell's diagonal outside every ball, stay asleep in cascade 0.
+  std::size_t corners = 0, cornerWakes = 0;
+  const glm::vec4 ro0 = frame.frame.regionOrigin[0];
+  const float subDiagonal0 = std::sqrt(3.0f) * ro0.w / 8.0f;
+  for (std::size_t j = 0; j < w.centre.size(); ++j)
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec3 sign(k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f, k & 4 ? 1.0f : -1.0f);
+      const glm::vec3 p = w.centre[j] + 0.9f * w.reach[j] * sign;
+      const glm::vec3 q = (p - glm::vec3(ro0)) / ro0.w;
+      if (glm::any(glm::lessThan(q, glm::vec3(0.0f))) ||
+          glm::any(glm::greaterThanEqual(q, glm::vec3(8.0f))))
+        continue;
+      bool clear = true;
+      for (std::size_t o = 0; o < w.centre.size() && clear; ++o)
+        clear = glm::length(p - w.centre[o]) > w.reach[o] + subDiagonal0;
+      if (!clear) continue;
+      ++corners;
+      cornerWakes += cpu.wakes(p, 0) ? 1 : 0;
+    }
   std::printf(
       "[figures] %zu changes: %zu wake sub-cells set, %zu words differ from brute force; %zu "
-      "points "
-      "within wake distance, %zu not woken; %zu points far from every change, %zu woken; %zu "
-      "points in cascades not listing the object, %zu woken\n",
-      changed.size(), set, differ, inside, missed, far, falseWakes, unseen, unseenWoken);
+      "points within wake distance, %zu not woken; %zu points far from every change, %zu woken; "
+      "%zu points in cascades not listing the object, %zu woken; %zu points in the wake cubes' "
+      "corners outside every ball, %zu woken\n",
+      changed.size(), set, differ, inside, missed, far, falseWakes, unseen, unseenWoken, corners,
+      cornerWakes);
   EXPECT_EQ(differ, 0u);
   EXPECT_GT(set, 0u);
   EXPECT_GT(inside, 1000u);
@@ -475,6 +503,8 @@ TEST_F(ObjectRegionsTest, WakeBitsEqualBruteForceAndCoverTheWakeDistance) {
   EXPECT_EQ(falseWakes, 0u);
   EXPECT_GT(unseen, 20u);
   EXPECT_EQ(unseenWoken, 0u);
+  EXPECT_GT(corners, 20u);
+  EXPECT_EQ(cornerWakes, 0u);
 }
 
 // Thousands of changes of every size (0.05-4 m; a tenth spread over 240 m, far outside cascade
@@ -506,7 +536,7 @@ TEST(ObjectWakeBits, ManyChangesEqualBruteForce) {
   const ObjectSceneSettings settings;
   const ObjectFrameData frame =
       buildObjectFrame(objects.library, objects.instances, stack, settings);
-  const WakeBoxes w = wakeBoxes(stack, frame.changedBoxes, settings.wakeIrradianceChange);
+  const WakeBalls w = wakeBalls(stack, frame.changedBoxes, settings.wakeIrradianceChange);
   std::size_t bits = 0;
   const std::size_t differ =
       wakeWordsDifferingFromBruteForce(frame.frame, w, frame.regions, settings.sizeRule, bits);
