@@ -135,8 +135,9 @@ float boxExit(glm::vec3 lo, glm::vec3 hi, glm::vec3 o, glm::vec3 dir) {
   return tExit;
 }
 
-// Probe rays of one frame of `gi` (every probe that is not off, raysPerProbe rays each, this
-// frame's rotation), in both frames, bounded by the coarsest cascade's window.
+// Probe rays of one frame of `gi` (every probe that is not off, raysPerProbe rays each, one
+// rotation of the pattern: slot frame mod slots), in both frames, bounded by the coarsest
+// cascade's window.
 PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
                      const probe::ProbeFieldSettings& s, const probe::ProbeFrameInputs& in,
                      std::uint64_t frame) {
@@ -145,11 +146,11 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
   const std::uint32_t perVolume = s.probesPerVolume(), n = s.raysPerProbe;
   const gpu_shared::CascadeTraceParams& last = img.params.back();
   const glm::vec3 lo(last.offsetScale), hi = lo + glm::vec3(128.0f * last.offsetScale.w);
+  const std::size_t slot = frame % std::max(1u, f.constants.selection.z);
+  const glm::mat3 rot(glm::vec3(f.rayPattern[3 * slot]), glm::vec3(f.rayPattern[3 * slot + 1]),
+                      glm::vec3(f.rayPattern[3 * slot + 2]));
   PeerRays r;
   for (const LiveProbe& p : liveProbes(gi, f, perVolume)) {
-    const gpu_shared::ProbeVolume& v = f.volumes[p.cascade];
-    const glm::mat3 rot(glm::vec3(v.rayRotationCol0), glm::vec3(v.rayRotationCol1),
-                        glm::vec3(v.rayRotationCol2));
     const glm::vec3 o = p.stack;
     for (std::uint32_t i = 0; i < n; ++i) {
       const glm::vec3 dir = probe::rayDirection(i, n, rot);
@@ -188,10 +189,13 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
     if (opt.verbose)
       std::printf(
           "      frame %llu: %u probes, %u rays traced, %u cached, %llu steps, %u bounce cells "
-          "looked up, %u rays waited for one or looked up their own (%u their own)\n",
+          "looked up, %u rays waited for one or looked up their own (%u their own); states "
+          "off %u, sleeping %u, awake %u, vigilant %u\n",
           (unsigned long long)frame_ - 1, s.probes.probesUpdated, s.probes.raysTraced,
           s.probes.raysCached, (unsigned long long)s.probes.steps, s.probes.bounceCells,
-          s.probes.bounceRays, s.probes.bounceOwn);
+          s.probes.bounceRays, s.probes.bounceOwn, s.probes.states[gpu_shared::kProbeOff],
+          s.probes.states[gpu_shared::kProbeSleeping], s.probes.states[gpu_shared::kProbeAwake],
+          s.probes.states[gpu_shared::kProbeVigilant]);
     update.push_back(total);
     probesUpdated.push_back(s.probes.probesUpdated);
     raysTraced.push_back(s.probes.raysTraced);

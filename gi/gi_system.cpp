@@ -41,7 +41,6 @@ GiSystem::GiSystem(gpu::Context& context, const GiSettings& settings, std::uint3
       relight_(settings.light.relightPageBudget),
       lightSwitchCatchUpFrames_(settings.lightSwitchCatchUpFrames),
       catchUpUpdatesPerFrame_(std::max(1u, settings.lightSwitchUpdatesPerFrame)),
-      probeRotations_(settings.probes.cacheRotations),
       framePasses_(kPassesBesideProbes + kPassesPerProbeUpdate * catchUpUpdatesPerFrame_),
       probeListCapacity_(settings.probes.listCapacity(cascades)),
       switchVigilantUpdates_(settings.probes.switchVigilantUpdates()),
@@ -235,8 +234,9 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
   stats.probesPaused = inputs.paused;
   if (!inputs.paused) {
     // A catch-up frame runs its updates one after another (same probes), each one more bounce
-    // of the new light, each through the next hit-cache rotation: update j of frame k takes
-    // rotation (n k + j) mod R, so any R updates in a row see every rotation's directions.
+    // of the new light, each through the probe's next hit-cache rotation (so any R updates of
+    // a probe in a row see every rotation's directions). Update j of frame k counts as update
+    // n k + j of the schedule, so where not every probe fits a list each takes other probes.
     const bool catchUp = catchUpFramesLeft_ > 0;
     const std::uint32_t switchVigilance = inputs.lightsChanged ? lightSwitchVigilance() : 0u;
     const std::uint32_t updates = catchUp ? catchUpUpdatesPerFrame_ : 1u;
@@ -245,9 +245,7 @@ GiFrameStats GiSystem::recordFrame(gpu::CommandBatch& batch, const SceneUpload& 
       in.lightSwitchCatchUp = catchUp;
       in.lightsChanged = inputs.lightsChanged && j == 0;
       in.lightSwitchVigilantUpdates = switchVigilance;
-      if (catchUp)
-        in.rotationShift =
-            std::uint32_t(((updates - 1) * frame + j) % std::max(1u, probeRotations_));
+      if (catchUp) in.updateShift = std::uint32_t((updates - 1) * frame + j);
       probes_.record(batch, staging_, scene_, image, light_.radianceBuffer(), in, frame);
     }
     if (catchUp) --catchUpFramesLeft_;

@@ -191,7 +191,6 @@ class GiSystem {
   std::uint64_t lightsVersion_ = ~std::uint64_t(0);
   const std::uint32_t lightSwitchCatchUpFrames_;
   const std::uint32_t catchUpUpdatesPerFrame_;
-  const std::uint32_t probeRotations_;  // hit-cache rotations the catch-up's updates cycle through
   const std::uint32_t framePasses_;     // timed passes a frame's batch has room for
   const std::uint32_t probeListCapacity_;      // probes one update's list holds
   const std::uint32_t switchVigilantUpdates_;  // a switch's vigilance where every probe fits

@@ -54,11 +54,11 @@ ProbeField::ProbeField(gpu::Context& context, const ProbeFieldSettings& settings
       depth_(deviceBuffer(context, sizes_.depthTexels * 8)),
       rays_(deviceBuffer(context, sizes_.rays * 16)),
       cache_(deviceBuffer(context, sizes_.cacheEntries * 8)),
-      rayPattern_(
-          deviceBuffer(context, (3 * std::max(1u, settings.cacheRotations) +
-                                 gpu_shared::kProbeDepthInterior * gpu_shared::kProbeDepthInterior *
-                                     gpu_shared::kProbeDepthListVec4s) *
-                                    16)),
+      rayPattern_(deviceBuffer(
+          context, std::size_t(std::max(1u, settings.cacheRotations)) *
+                       (3 + gpu_shared::kProbeDepthInterior * gpu_shared::kProbeDepthInterior *
+                                gpu_shared::kProbeDepthListVec4s) *
+                       16)),
       list_(deviceBuffer(context, std::size_t(settings.listCapacity(cascades)) * 4)),
       statsBuffer_(deviceBuffer(context, gpu_shared::kProbeStatCount * 4)),
       pageChanged_(deviceBuffer(context, std::size_t(cascades) * 128 * 4)),
@@ -82,6 +82,7 @@ void ProbeField::reset() {
     batch.fill(*b, 0u);
   batch.submitAndWait();
   builder_.reset();
+  uploadedPattern_.clear();  // uploaded again with the next frame
 }
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
@@ -176,7 +177,11 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   }
   staging.upload(batch, frame_, 0, &lastFrame_.constants, sizeof lastFrame_.constants);
   staging.upload(batch, volumes_, std::span(std::as_const(lastFrame_.volumes)));
-  staging.upload(batch, rayPattern_, std::span(std::as_const(lastFrame_.rayPattern)));
+  // With the hit cache the pattern is the same every frame: uploaded once.
+  if (lastFrame_.rayPattern != uploadedPattern_) {
+    staging.upload(batch, rayPattern_, std::span(std::as_const(lastFrame_.rayPattern)));
+    uploadedPattern_ = lastFrame_.rayPattern;
+  }
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));
   while (statsReadback_.size() < staging.framesInFlight())
     statsReadback_.emplace_back(context_, gpu_shared::kProbeStatCount * 4,

@@ -131,6 +131,7 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
+  std::vector<glm::vec4> uploadedPattern_;  // the ray pattern the device buffer holds
   // The passes that bind the traced atlas, specialized on which one it is
   // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
   gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;

@@ -103,6 +103,8 @@ class ProbeFieldCpu {
   std::span<const glm::vec4> irradiance() const { return irradiance_; }
   std::span<const glm::vec2> depth() const { return depth_; }
   std::span<const glm::vec4> probeData() const { return data_; }
+  // Per probe its history word (shaders/probe_field.glsl, probeHistoryPack).
+  std::span<const glm::uvec4> history() const { return history_; }
   std::span<const glm::uvec2> hitCache() const { return cache_; }
   // The bounce cells (probe_trace.glsl), uvec2 per atlas material voxel as two words each.
   std::span<const std::uint32_t> bounceCells() const { return bounceCells_; }

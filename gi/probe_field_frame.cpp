@@ -34,28 +34,29 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   ProbeFieldFrame out;
   bool anyMoved = false;
 
-  // Hit-cache rotations: a fixed cycle, so a ray index of a rotation slot always has the same
-  // direction and its cached hit stays meaningful; without the cache, a fresh rotation per frame.
+  // Hit-cache rotations: a fixed set, so a ray index of a rotation slot always has the same
+  // direction and its cached hit stays meaningful; each probe steps through the slots one
+  // update at a time (probeHistoryListed). Their depth texels' ray lists follow, a set per slot;
+  // the pattern never changes, so it is built once. Without the cache: one fresh rotation a
+  // frame, in slot 0.
   const bool cycle = s.hitCache || s.fixedRotationCycle;
-  const std::uint32_t slots = cycle ? std::max(1u, s.cacheRotations) : 1u;
+  const std::uint32_t slots = cycle ? std::clamp(s.cacheRotations, 1u, kMaxCacheRotations) : 1u;
   const std::uint64_t mix = s.rotationSeed * 0x9E3779B97F4A7C15ull;
-  for (std::uint32_t r = 0; r < slots; ++r) {
-    const glm::mat3 m = randomRotation(mix + r);
-    for (int k = 0; k < 3; ++k) out.rayPattern.push_back(glm::vec4(m[k], 0.0f));
-  }
-  const std::uint64_t rotationFrame = frame + in.rotationShift;
-  const std::uint32_t slot = cycle ? std::uint32_t(rotationFrame % slots) : 0u;
-  const glm::mat3 rotation =
-      cycle ? randomRotation(mix + slot) : randomRotation(mix + 1000003u + rotationFrame);
-  // The depth texels' ray lists of this frame's pattern, after the rotations: built once per
-  // slot of a cycle, every frame otherwise (a fresh rotation).
+  const std::uint64_t selectionFrame = frame + in.updateShift;
   if (cycle) {
-    if (depthLists_.size() != slots) depthLists_.assign(slots, {});
-    if (depthLists_[slot].empty())
-      appendDepthRayLists(rotation, s.raysPerProbe, s.depthSharpness, depthLists_[slot]);
-    out.rayPattern.insert(out.rayPattern.end(), depthLists_[slot].begin(), depthLists_[slot].end());
+    if (pattern_.empty()) {
+      for (std::uint32_t r = 0; r < slots; ++r) {
+        const glm::mat3 m = randomRotation(mix + r);
+        for (int k = 0; k < 3; ++k) pattern_.push_back(glm::vec4(m[k], 0.0f));
+      }
+      for (std::uint32_t r = 0; r < slots; ++r)
+        appendDepthRayLists(randomRotation(mix + r), s.raysPerProbe, s.depthSharpness, pattern_);
+    }
+    out.rayPattern = pattern_;
   } else {
-    appendDepthRayLists(rotation, s.raysPerProbe, s.depthSharpness, out.rayPattern);
+    const glm::mat3 m = randomRotation(mix + 1000003u + selectionFrame);
+    for (int k = 0; k < 3; ++k) out.rayPattern.push_back(glm::vec4(m[k], 0.0f));
+    appendDepthRayLists(m, s.raysPerProbe, s.depthSharpness, out.rayPattern);
   }
 
   std::vector<glm::ivec3> gridOrigins(cascades);
@@ -86,9 +87,6 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
       if (glm::any(glm::greaterThanEqual(glm::abs(moved), glm::ivec3(n)))) reset = 1;
     }
     v.moved = glm::ivec4(moved, reset);
-    v.rayRotationCol0 = glm::vec4(rotation[0], float(slot));
-    v.rayRotationCol1 = glm::vec4(rotation[1], 0.0f);
-    v.rayRotationCol2 = glm::vec4(rotation[2], 0.0f);
     v.blend = glm::vec4(s.irradianceHysteresis, s.depthHysteresis, s.maxDepthSpacings * spacing,
                         s.irradianceGamma);
     v.visibility =
@@ -137,7 +135,7 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   if (s.backfacesBlack) options |= gpu_shared::kProbeOptionBackfacesBlack;
   if (first_) options |= gpu_shared::kProbeOptionFirstFrame;
   if (anyMoved || anyPageChanged) options |= gpu_shared::kProbeOptionCacheCheck;
-  f.options = glm::uvec4(options, std::uint32_t(rotationFrame), s.sleepPeriod, s.maxSteps);
+  f.options = glm::uvec4(options, std::uint32_t(selectionFrame), s.sleepPeriod, s.maxSteps);
   f.trace = glm::vec4(s.hitEpsilon, s.relocationMinDistance, s.sleepThreshold, s.traceDistance);
   // w: vigilant updates when new (bits 0-7), near a moving object (bits 8-15), after a light
   // switch (bits 16-23), and the closing updates that take a running mean (bits 24-31).

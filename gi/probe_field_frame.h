@@ -24,6 +24,9 @@ namespace sdfstream::probe {
 // (DECISIONS, "The probe ray budget").
 inline constexpr std::uint32_t kDefaultProbeRayBudget = 1u << 20;
 
+// Hit-cache rotation slots a probe can step through (its history keeps the slot in 4 bits).
+inline constexpr std::uint32_t kMaxCacheRotations = 16;
+
 struct ProbeFieldSettings {
   std::uint32_t spacingBricks = 1;  // probe spacing in bricks of its cascade: 1, 2 or 4 (grid
                                     // 17³, 9³ or 5³ per cascade; SDFGI slides: 17³ per 128³)
@@ -100,8 +103,9 @@ struct ProbeFieldSettings {
   // and off on the very same rays (off by default: without a cache, a fresh rotation per frame
   // is the better estimator).
   bool fixedRotationCycle = false;
-  std::uint32_t cacheRotations = 4;  // ray rotations cycled when the cache is on (memory: probes
-                                     // x rays x rotations x 8 bytes)
+  // Ray rotations a probe steps through, one per update, when the cache is on (memory: probes x
+  // rays x rotations x 8 bytes; at most kMaxCacheRotations).
+  std::uint32_t cacheRotations = 4;
   bool states = true;                // M21 Sec. 5 probe states
   std::uint32_t sleepPeriod = 8;     // sleeping probes refresh every this many frames
   // A light change this small is a drift, not a wake (GiSystem): every sun turns by at most
@@ -167,10 +171,11 @@ struct ProbeFrameInputs {
   // probes' GPU time; the light cache, objects and streaming still update). Unpaused, the field
   // catches up from where it stood, as after a camera jump.
   bool paused = false;
-  // Added to the frame number wherever an update picks by it -- the hit-cache rotation and the
-  // select pass's share of an overflowing class: a second update in the same frame (GiSystem's
-  // light-switch catch-up) traces other directions, and other probes where not all fit.
-  std::uint32_t rotationShift = 0;
+  // Added to the frame number wherever an update picks by it -- the select pass's schedule and
+  // its share of an overflowing class, and without the hit cache the fresh rotation: a second
+  // update in the same frame (GiSystem's light-switch catch-up) takes other probes where not all
+  // fit. (With the cache each probe steps through the rotations by itself.)
+  std::uint32_t updateShift = 0;
   // With lightsChanged: the switch's vigilance in updates (0: lightSwitchVigilantUpdates).
   std::uint32_t lightSwitchVigilantUpdates = 0;
   // A frame of GiSystem's catch-up after a light switch: vigilant probes blend with
@@ -183,8 +188,9 @@ struct ProbeFieldFrame {
   gpu_shared::ProbeFrame constants{};
   std::vector<gpu_shared::ProbeVolume> volumes;
   std::vector<std::uint32_t> pageChanged;  // cascades x 128 words: bit i = entry i changed
-  // The ray pattern: cacheRotations x 3 rotation columns, then this frame's depth texels' ray
-  // lists (probe_layout.h, kProbeDepthList*).
+  // The ray pattern: cacheRotations x 3 rotation columns, then each slot's depth texels' ray
+  // lists (probe_layout.h, kProbeDepthList*). With the hit cache the same every frame; without
+  // it one fresh rotation a frame.
   std::vector<glm::vec4> rayPattern;
 };
 
@@ -205,7 +211,7 @@ class ProbeFieldFrameBuilder {
   bool driftedBefore_ = false;             // the previous frame had kProbeOptionLightsDrifting
   std::uint32_t updates_ = 0;        // frames built (the bounce cells' stamps; never restarts)
   std::uint32_t buildingUntil_ = 0;  // the bounces build up until here (new field, light switch)
-  std::vector<std::vector<glm::vec4>> depthLists_;  // per rotation slot of the cycle
+  std::vector<glm::vec4> pattern_;   // the rotation cycle's ray pattern (built once)
 };
 
 }  // namespace sdfstream::probe

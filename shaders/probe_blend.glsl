@@ -50,7 +50,9 @@ ProbeBlendTexel probeBlendTexelOf(ProbeFrame f, uint l, uint local) {
     t.index = probeDepthIndex(g, t.texel + uvec2(kProbeBorderTexels));
     t.h = vigilant ? min(v.blend.y, f.view.w) : v.blend.y;
     t.shape = v.visibility.y;
-    t.depthList = 3u * f.selection.z + d * kProbeDepthListVec4s;  // after the rotations
+    // After the rotations, the lists of the probe's slot (each slot's set of interior texels).
+    uint lists = probeHistorySlot(hist) * kProbeDepthInterior * kProbeDepthInterior + d;
+    t.depthList = 3u * f.selection.z + lists * kProbeDepthListVec4s;
   }
   return t;
 }

@@ -112,7 +112,8 @@ bool probeEntered(ProbeVolume v, uint s) {
 // The state of a probe (M21 Sec. 5): off when its relocated position is still inside geometry
 // or when no surface lies within two spacings (a page bound beyond the cage diagonal plus the
 // self-shadow bias: no surface receiver can use it; queries in empty space then fall through to
-// coarser cascades); vigilant while the vigilant countdown runs; sleeping after 4 quiet updates.
+// coarser cascades); vigilant while the vigilant countdown runs; sleeping after 4 updates' worth
+// of quiet rotation cycles (one cycle of the hit cache's 4 rotations; 4 updates without it).
 uint probeState(ProbeFrame f, ProbeSdf sdf, float spacing, uvec4 history) {
   if ((f.options.x & kProbeOptionStates) == 0u)
     return probeHistoryVigilant(history) > 0u ? kProbeVigilant : kProbeAwake;
@@ -120,7 +121,7 @@ uint probeState(ProbeFrame f, ProbeSdf sdf, float spacing, uvec4 history) {
   if (probeHistoryInside(history)) return kProbeOff;  // M21 Sec. 5: mostly backface hits
   if (!sdf.resident && sdf.distance >= 2.0f * spacing) return kProbeOff;
   if (probeHistoryVigilant(history) > 0u) return kProbeVigilant;
-  return probeHistoryQuiet(history) >= 4u ? kProbeSleeping : kProbeAwake;
+  return probeHistoryQuiet(history) * max(f.selection.z, 1u) >= 4u ? kProbeSleeping : kProbeAwake;
 }
 
 // Exit distance of a ray from the box [lo, lo + size]³ (it starts inside or the result is <= 0).
@@ -187,10 +188,15 @@ vec3 probeMeanIrradiance(uint probe, float gamma) {
   return sum * (1.0f / float(kProbeIrradianceInterior * kProbeIrradianceInterior));
 }
 
+// The ray rotation of hit-cache slot `slot` (the ray pattern's first 3 x slots vec4; with the
+// cache off, slot 0 holds this frame's fresh rotation).
+mat3 probeSlotRotation(uint slot) {
+  return mat3(vec3(PROBE_ROTATION(slot, 0u)), vec3(PROBE_ROTATION(slot, 1u)),
+              vec3(PROBE_ROTATION(slot, 2u)));
+}
+
 vec3 probeRotationSlotDirection(uint slot, uint ray, uint n) {
-  mat3 r = mat3(vec3(PROBE_ROTATION(slot, 0u)), vec3(PROBE_ROTATION(slot, 1u)),
-                vec3(PROBE_ROTATION(slot, 2u)));
-  return probeRayDirection(ray, n, r);
+  return probeRayDirection(ray, n, probeSlotRotation(slot));
 }
 
 // Classify pass, one invocation per probe of every volume: scroll reset of newly entered probes,
@@ -227,22 +233,31 @@ void probeClassifyPass(ProbeFrame f, uint g) {
                      probeStateOf(oldData) == kProbeSleeping;
     float hLast = vigilant > 0u ? probeVigilantHysteresis(f, v.blend.x, vigilant, closingMean)
                   : driftLast ? probeDriftHysteresis(f, v.blend.x) : v.blend.x;
-    if (age == 0u) {  // updated by the previous frame: measure how much it changed
+    // Updated by the previous frame, through the last of the hit cache's rotation slots: measure
+    // how much the stored mean moved over the cycle of rotations (the mean xyz holds the value
+    // at the previous cycle's end). Each rotation's 128 fixed directions have their own bias
+    // against the field, as large as a few per cent of the mean where a few rays see a sunlit
+    // patch, so an update's estimate against the stored mean measured that bias, and such probes
+    // never slept; over a whole cycle the biases cancel. Without the cache a cycle is one update.
+    uint slots = max(f.selection.z, 1u);
+    if (age == 0u && probeHistorySlot(hist) == slots - 1u) {
       vec3 now = probeMeanIrradiance(g, v.blend.w);
       vec3 delta = abs(now - mean);
       vec3 top = max(now, mean);
       float change = max(delta.x, max(delta.y, delta.z)) /
                      max(max(top.x, max(top.y, top.z)), 1e-4f);
-      // The blend moved the stored mean by (1 - h) of the gap to the update's fresh estimate:
-      // judge the gap, not the step, or a high hysteresis would put unconverged probes to sleep.
-      float gap = change / max(1.0f - hLast, 1e-3f);
+      // The blend moved the stored mean by 1 - h^slots of the gap to the cycle's estimate: judge
+      // the gap, not the step, or a high hysteresis would put unconverged probes to sleep.
+      float kept = 1.0f;  // h^slots by multiplication, so the GPU and the CPU agree exactly
+      for (uint k = 0u; k < slots; ++k) kept *= hLast;
+      float gap = change / max(1.0f - kept, 1e-3f);
       // Vigilant updates (low hysteresis) are noisy: only calm updates count towards sleep, so
       // a probe never falls asleep holding the noise of its fast-converging phase.
       // A drifting refresh is calm too: its low hysteresis follows the light, not the noise.
       quiet = gap < f.trace.z && (hLast == v.blend.x || driftLast) ? quiet + 1u : 0u;
-      if (vigilant > 0u) vigilant -= 1u;
       mean = now;
     }
+    if (age == 0u && vigilant > 0u) vigilant -= 1u;
     // After the count-down: a switch's vigilance is this update and the ones after it, all of
     // them (its closing mean, probeVigilantHysteresis, then spans whole rotation cycles).
     if ((f.options.x & kProbeOptionLightsChanged) != 0u) {
@@ -303,7 +318,8 @@ void probeClassifyPass(ProbeFrame f, uint g) {
     if (!sdf.resident) sdf.distance = min(sdf.distance, max(objDistance, 0.0f));
   }
 #endif
-  uvec4 newHist = probeHistoryPack(mean, quiet, vigilant, age, closingMean, inside);
+  uvec4 newHist =
+      probeHistoryPack(mean, quiet, probeHistorySlot(hist), vigilant, age, closingMean, inside);
   uint state = probeState(f, sdf, spacing, newHist);
 #ifdef OBJ_FRAME
   if (insideObject) state = kProbeOff;

@@ -59,10 +59,6 @@ vec3 probeGridPosition(ProbeVolume v, ivec3 logical) {
   return vec3(v.originSpacing) + vec3(logical) * v.originSpacing.w;
 }
 
-mat3 probeVolumeRotation(ProbeVolume v) {
-  return mat3(vec3(v.rayRotationCol0), vec3(v.rayRotationCol1), vec3(v.rayRotationCol2));
-}
-
 uint probeStateOf(vec4 data) {
   return uint(data.w + 0.5f);
 }
@@ -109,20 +105,32 @@ float probeVigilantHysteresis(ProbeFrame f, float h, uint left, bool closing) {
 }
 
 // Probe history (uvec4): xyz mean irradiance at the last check (float bits); w packs
-// quiet updates (bits 0..7), vigilant updates left (8..15), frames since last update (16..29),
-// bit 30: the vigilance came from a light switch (it closes with a mean,
-// probeVigilantHysteresis), and bit 31: more than a quarter of its last rays hit backfaces (it
-// sits inside geometry).
-uint probeHistoryQuiet(uvec4 h) { return h.w & 255u; }
+// quiet updates (bits 0..3), the hit-cache rotation slot of its latest update (4..7),
+// vigilant updates left (8..15), frames since last update (16..29), bit 30: the vigilance came
+// from a light switch (it closes with a mean, probeVigilantHysteresis), and bit 31: more than a
+// quarter of its last rays hit backfaces (it sits inside geometry).
+uint probeHistoryQuiet(uvec4 h) { return h.w & 15u; }
+uint probeHistorySlot(uvec4 h) { return (h.w >> 4u) & 15u; }
 uint probeHistoryVigilant(uvec4 h) { return (h.w >> 8u) & 255u; }
 uint probeHistoryAge(uvec4 h) { return (h.w >> 16u) & 16383u; }
 bool probeHistoryClosingMean(uvec4 h) { return ((h.w >> 30u) & 1u) != 0u; }
 bool probeHistoryInside(uvec4 h) { return (h.w >> 31u) != 0u; }
-uvec4 probeHistoryPack(vec3 mean, uint quiet, uint vigilant, uint age, bool closingMean,
-                       bool inside) {
+uvec4 probeHistoryPack(vec3 mean, uint quiet, uint slot, uint vigilant, uint age,
+                       bool closingMean, bool inside) {
   return uvec4(floatBitsToUint(mean.x), floatBitsToUint(mean.y), floatBitsToUint(mean.z),
-               min(quiet, 255u) | (min(vigilant, 255u) << 8u) | (min(age, 16383u) << 16u) |
-                   (closingMean ? 0x40000000u : 0u) | (inside ? 0x80000000u : 0u));
+               min(quiet, 15u) | ((slot & 15u) << 4u) | (min(vigilant, 255u) << 8u) |
+                   (min(age, 16383u) << 16u) | (closingMean ? 0x40000000u : 0u) |
+                   (inside ? 0x80000000u : 0u));
+}
+
+// The history of a probe listed for an update: age 0, and its next hit-cache rotation slot (of
+// `slots`). Each probe steps through the slots one update at a time, whatever its schedule: a
+// probe updated every second frame, or every eighth while asleep, once saw only the slots those
+// frames took by frame number (one of four, asleep), and so held the bias of one rotation's 128
+// directions instead of their mean.
+uvec4 probeHistoryListed(uvec4 h, uint slots) {
+  uint next = (probeHistorySlot(h) + 1u) % max(slots, 1u);
+  return uvec4(h.x, h.y, h.z, (h.w & 0xc000ff0fu) | (next << 4u));
 }
 
 #ifdef OBJ_FRAME

@@ -111,6 +111,5 @@ void probeSelectPass(ProbeFrame f, uint g, uint mode) {
   // it (the only thread-order-dependent choice) wait for the next frame.
   if (index >= f.selection.y) return;
   PROBE_LIST(index) = g;
-  uvec4 h = PROBE_HISTORY(g);
-  PROBE_HISTORY(g) = uvec4(h.x, h.y, h.z, h.w & 0xc000ffffu);  // age 0: updated this frame
+  PROBE_HISTORY(g) = probeHistoryListed(PROBE_HISTORY(g), f.selection.z);
 }

@@ -275,10 +275,11 @@ void probeTracePass(ProbeFrame f, uint l, uint ray) {
   ProbeVolume v = PROBE_VOLUME(c);
   uint n = v.countsRays.w;
   vec3 o = probePosition(f, g);
-  vec3 dir = probeRayDirection(ray, n, probeVolumeRotation(v));
+  uint slot = probeHistorySlot(PROBE_HISTORY(g));
+  vec3 dir = probeRotationSlotDirection(slot, ray, n);
   ProbeRayHit h;
   bool useCache = (f.options.x & kProbeOptionHitCache) != 0u;
-  uint entry = (g * f.selection.z + uint(v.rayRotationCol0.w)) * n + ray;
+  uint entry = (g * f.selection.z + slot) * n + ray;
   bool cached = false;
   if (useCache) {
     uvec2 e = PROBE_CACHE(entry);

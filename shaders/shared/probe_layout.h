@@ -76,15 +76,12 @@ struct ProbeVolume {
   ivec4 scroll;          // xyz: storage coordinate of logical probe (0,0,0) (toroidal);
                          // w: cascade index                                            (32..47)
   ivec4 moved;           // xyz: grid shift since last frame (probes); w: 1 = volume reset (48..63)
-  vec4 rayRotationCol0;  // xyz: column 0 of this frame's ray rotation; w: rotation slot (64..79)
-  vec4 rayRotationCol1;  // xyz: column 1                                              (80..95)
-  vec4 rayRotationCol2;  // xyz: column 2                                              (96..111)
   vec4 blend;            // x: irradiance hysteresis, y: depth hysteresis, z: max ray distance
-                         // (misses record it), w: irradiance gamma                     (112..127)
+                         // (misses record it), w: irradiance gamma                     (64..79)
   vec4 visibility;       // x: self-shadow bias B, y: depth sharpness, z: backface depth scale,
-                         // w: Chebyshev minimum variance                              (128..143)
+                         // w: Chebyshev minimum variance                              (80..95)
   vec4 prevWindow;       // xyz: this cascade's SDF window min corner last frame, in this
-                         // frame's cascade-0 voxels; w: window edge (cascade-0 voxels) (144..159)
+                         // frame's cascade-0 voxels; w: window edge (cascade-0 voxels) (96..111)
 };
 
 // Per-frame constants of the probe field passes (one-element storage buffer).
@@ -151,7 +148,8 @@ SDF_CONST uint kProbeBlendThreadsPerProbe = 64u;  // the interior blend: one wor
 // depth interior texel, the rays whose weight is at least kProbeDepthListFloor of its nearest
 // ray's (13 a texel on average at sharpness 50 over 32-256 rays; the mean depth moves < 1e-3), in
 // ray order, at most kProbeDepthListRays; a texel with more (a wide lobe, many rays) is marked
-// dense and blends every ray. They follow the rotations in the ray-pattern buffer, one block of
+// dense and blends every ray. They follow the rotations in the ray-pattern buffer, a set per
+// rotation slot (slot-major; a probe's update takes its own slot, probeHistorySlot), one block of
 // kProbeDepthListVec4s vec4 per texel: x of the first = the count (uint bits, or
 // kProbeDepthListDense), then (ray, weight) pairs, two per vec4 (ray as uint bits).
 SDF_CONST uint kProbeDepthListRays = 32u;
@@ -208,11 +206,10 @@ SDF_END_NAMESPACE
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(sdfstream::gpu_shared::ProbeVolume) == 160);
+static_assert(sizeof(sdfstream::gpu_shared::ProbeVolume) == 112);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, countsRays) == 16);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, rayRotationCol0) == 64);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 112);
-static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, prevWindow) == 144);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, blend) == 64);
+static_assert(offsetof(sdfstream::gpu_shared::ProbeVolume, prevWindow) == 96);
 static_assert(sizeof(sdfstream::gpu_shared::ProbeFrame) == 160);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, bounce) == 144);
 static_assert(offsetof(sdfstream::gpu_shared::ProbeFrame, selection) == 112);

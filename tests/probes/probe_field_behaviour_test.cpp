@@ -232,5 +232,49 @@ TEST_F(ProbeFieldBehaviourTest, ProbeStatesTraceFewerProbesAtTheSameIrradiance) 
   EXPECT_LE(meanDiff, 0.02);
 }
 
+// Every probe steps through every hit-cache rotation, whatever its schedule: after the first
+// vigilance, probes out of view update every second frame and sleeping ones every eighth, and
+// each of them that updates four times sees all four rotations (by frame number, the slot
+// frame mod 4, a probe of even frames saw two of them and a sleeping one always the same).
+TEST_F(ProbeFieldBehaviourTest, EveryProbeStepsThroughEveryRotation) {
+  auto ground = [](glm::vec3 p, float) { return p.y - 40.0f; };
+  test::AnalyticStack world(
+      3, ground, [](glm::vec3) { return glm::uvec2(kGrey, 0u); }, glm::vec3(64.0f));
+  ProbeFieldSettings s;
+  s.spacingBricks = 2;
+  s.raysPerProbe = 32;
+  ASSERT_EQ(s.cacheRotations, 4u);
+  test::GiHarness h(ctx(), s, 3, true, false);
+  h.sky.zenith = glm::vec4(0.4f, 0.5f, 0.8f, 0.0f);
+  h.sky.horizon = glm::vec4(0.6f, 0.6f, 0.6f, 0.0f);
+  ProbeFrameInputs in;
+  in.cameraWorld = glm::dvec3(64.0, 50.0, 64.0);
+  const std::size_t probes = std::size_t(3) * s.probesPerVolume();
+  std::vector<std::uint32_t> slotsSeen(probes, 0u), updates(probes, 0u);
+  constexpr std::uint64_t kFirst = 40, kFrames = 104;
+  for (std::uint64_t frame = 0; frame < kFrames; ++frame) {
+    h.step(world.image, in, frame, frame == 0);
+    if (frame < kFirst) continue;
+    const auto history = h.cpuField->history();
+    for (std::uint32_t g : h.cpuField->lastUpdateList()) {
+      slotsSeen[g] |= 1u << ((history[g].w >> 4) & 15u);
+      ++updates[g];
+    }
+  }
+  std::size_t checked = 0, sparse = 0, partial = 0;
+  for (std::size_t g = 0; g < probes; ++g) {
+    if (updates[g] < 4) continue;
+    ++checked;
+    if (2 * updates[g] <= kFrames - kFirst) ++sparse;  // every second frame or rarer
+    if (slotsSeen[g] != 15u) ++partial;
+  }
+  std::printf(
+      "[figures] rotations, frames %llu-%llu: %zu probes updated 4 times or more (%zu of them "
+      "every second frame or rarer), %zu saw fewer than all 4 rotations\n",
+      (unsigned long long)kFirst, (unsigned long long)kFrames - 1, checked, sparse, partial);
+  EXPECT_GT(sparse, 50u);
+  EXPECT_EQ(partial, 0u);
+}
+
 }  // namespace
 }  // namespace sdfstream::probe

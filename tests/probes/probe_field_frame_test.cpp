@@ -1,7 +1,9 @@
-// ProbeFieldFrameBuilder: what a frame's constants say about the light switch -- the hit-cache
-// rotation a second update of the same frame takes, the catch-up's hysteresis and the vigilance
-// counts the classify and blend passes read (shaders/probe_field.glsl,
+// ProbeFieldFrameBuilder: the ray pattern (the hit cache's rotation slots and their depth
+// lists), what a frame's constants say about the light switch -- the catch-up's hysteresis and
+// the vigilance counts the classify and blend passes read (shaders/probe_field.glsl,
 // probeVigilantHysteresis).
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "gi/probe_field_frame.h"
@@ -19,22 +21,48 @@ CascadeStackImage oneCascade() {
   return image;
 }
 
-TEST(ProbeFieldFrame, ARotationShiftTakesAnotherRotationOfTheCycle) {
-  ProbeFieldSettings s;  // hit cache on: 4 rotations cycled by frame
+// With the hit cache the pattern holds every rotation slot (each probe steps through them by
+// itself) and then each slot's depth lists, the same every frame; an update shift moves only
+// the select pass's frame.
+TEST(ProbeFieldFrame, TheCachesPatternHoldsEverySlotAndNeverChanges) {
+  ProbeFieldSettings s;  // hit cache on, 4 rotations
   ProbeFieldFrameBuilder builder(s);
   const CascadeStackImage image = oneCascade();
   ProbeFrameInputs in;
   const ProbeFieldFrame first = builder.build(image, in, 5);
-  in.rotationShift = 2;
+  in.updateShift = 2;
   const ProbeFieldFrame second = builder.build(image, in, 5);
-  EXPECT_EQ(first.volumes[0].rayRotationCol0.w, 1.0f);   // 5 % 4
-  EXPECT_EQ(second.volumes[0].rayRotationCol0.w, 3.0f);  // (5 + 2) % 4
-  EXPECT_NE(first.volumes[0].rayRotationCol0, second.volumes[0].rayRotationCol0);
-  // The slot's rotation is the one the cache's table holds for it, and the select pass's share
-  // of an overflowing class moves on with the shift too (other probes where not all fit).
-  EXPECT_EQ(glm::vec3(second.volumes[0].rayRotationCol0), glm::vec3(second.rayPattern[3 * 3]));
+  const std::size_t lists = std::size_t(gpu_shared::kProbeDepthInterior) *
+                            gpu_shared::kProbeDepthInterior * gpu_shared::kProbeDepthListVec4s;
+  ASSERT_EQ(first.rayPattern.size(), 4 * (3 + lists));
+  EXPECT_EQ(first.rayPattern, second.rayPattern);
+  EXPECT_EQ(first.constants.selection.z, 4u);
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) {
+      EXPECT_NE(first.rayPattern[3 * a], first.rayPattern[3 * b]);
+      // Each slot's lists are its own rotation's: the first texel's lists differ somewhere.
+      const auto la = first.rayPattern.begin() + 12 + a * lists;
+      const auto lb = first.rayPattern.begin() + 12 + b * lists;
+      EXPECT_FALSE(std::equal(la, la + lists, lb));
+    }
   EXPECT_EQ(first.constants.options.y, 5u);
   EXPECT_EQ(second.constants.options.y, 7u);
+}
+
+// Without the cache, slot 0 holds a fresh rotation each frame (and each shifted update).
+TEST(ProbeFieldFrame, WithoutTheCacheEachUpdateTakesAFreshRotation) {
+  ProbeFieldSettings s;
+  s.hitCache = false;
+  ProbeFieldFrameBuilder builder(s);
+  const CascadeStackImage image = oneCascade();
+  ProbeFrameInputs in;
+  const ProbeFieldFrame a = builder.build(image, in, 5);
+  const ProbeFieldFrame b = builder.build(image, in, 6);
+  in.updateShift = 1;
+  const ProbeFieldFrame c = builder.build(image, in, 5);
+  EXPECT_EQ(a.constants.selection.z, 1u);
+  EXPECT_NE(a.rayPattern[0], b.rayPattern[0]);
+  EXPECT_EQ(b.rayPattern[0], c.rayPattern[0]);  // frame 5 + shift 1 counts as frame 6
 }
 
 TEST(ProbeFieldFrame, TheCatchUpTakesItsOwnHysteresisAndTheVigilanceCounts) {
