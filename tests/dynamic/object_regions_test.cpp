@@ -540,12 +540,32 @@ TEST(ObjectWakeBits, ManyChangesEqualBruteForce) {
   std::size_t bits = 0;
   const std::size_t differ =
       wakeWordsDifferingFromBruteForce(frame.frame, w, frame.regions, settings.sizeRule, bits);
-  std::size_t moved = 0;
-  for (const gs::ObjectRegionGpu& r : frame.regions) moved += r.moved;
+  std::size_t moved = 0, set = 0;
+  for (const gs::ObjectRegionGpu& r : frame.regions) {
+    moved += r.moved;
+    for (std::uint32_t word : r.wake) set += std::size_t(std::popcount(word));
+  }
+  // What the balls' bounding cubes (the frame's sub-cell ranges) would have set: the rule before.
+  std::size_t cubeBits = 0;
+  const std::uint32_t cascades = frame.frame.counts.y;
+  for (std::uint32_t c = 0; c < cascades; ++c) {
+    std::vector<std::uint64_t> rows(64 * 64, 0);
+    for (std::size_t k = 0; k < frame.changedBoxes.size(); ++k) {
+      const ObjectFrameData::SubCellRange& r = frame.wakeRanges[k * cascades + c];
+      if (r.empty()) continue;
+      const std::uint64_t run =
+          (~std::uint64_t(0) >> (63 - r.hi.x)) & (~std::uint64_t(0) << r.lo.x);
+      for (int z = r.lo.z; z <= r.hi.z; ++z)
+        for (int y = r.lo.y; y <= r.hi.y; ++y) rows[std::size_t(y + 64 * z)] |= run;
+    }
+    for (std::uint64_t row : rows) cubeBits += std::size_t(std::popcount(row));
+  }
   std::printf(
       "[figures] %zu changed boxes: %zu wake bits set, %zu words differ from brute force; %u "
-      "moved regions\n",
-      frame.changedBoxes.size(), bits, differ, frame.movedRegions);
+      "moved regions; their bounding cubes would set %zu bits (%.2fx)\n",
+      frame.changedBoxes.size(), set, differ, frame.movedRegions, cubeBits,
+      double(cubeBits) / double(std::max<std::size_t>(set, 1)));
+  EXPECT_LT(set, cubeBits);
   EXPECT_GT(frame.changedBoxes.size(), 1500u);
   EXPECT_GT(bits, 10000u);
   EXPECT_LT(bits, frame.regions.size() * 512);  // not everything: the far cascades' edges sleep
