@@ -147,8 +147,9 @@ PeerRays probeRaySet(const GiSystem& gi, const CascadeStackImage& img,
   const gpu_shared::CascadeTraceParams& last = img.params.back();
   const glm::vec3 lo(last.offsetScale), hi = lo + glm::vec3(128.0f * last.offsetScale.w);
   const std::size_t slot = frame % std::max(1u, f.constants.selection.z);
-  const glm::mat3 rot(glm::vec3(f.rayPattern[3 * slot]), glm::vec3(f.rayPattern[3 * slot + 1]),
-                      glm::vec3(f.rayPattern[3 * slot + 2]));
+  const std::vector<glm::vec4>& pattern = *f.rayPattern;
+  const glm::mat3 rot{glm::vec3(pattern[3 * slot]), glm::vec3(pattern[3 * slot + 1]),
+                      glm::vec3(pattern[3 * slot + 2])};
   PeerRays r;
   for (const LiveProbe& p : liveProbes(gi, f, perVolume)) {
     const glm::vec3 o = p.stack;

@@ -82,7 +82,7 @@ void ProbeField::reset() {
     batch.fill(*b, 0u);
   batch.submitAndWait();
   builder_.reset();
-  uploadedPattern_.clear();  // uploaded again with the next frame
+  uploadedPattern_.reset();  // uploaded again with the next frame
 }
 
 std::vector<const gpu::Buffer*> ProbeField::bindings(const GpuStackScene& scene,
@@ -177,9 +177,9 @@ void ProbeField::record(gpu::CommandBatch& batch, gpu::StagingRing& staging,
   }
   staging.upload(batch, frame_, 0, &lastFrame_.constants, sizeof lastFrame_.constants);
   staging.upload(batch, volumes_, std::span(std::as_const(lastFrame_.volumes)));
-  // With the hit cache the pattern is the same every frame: uploaded once.
+  // With the hit cache every frame shares one pattern: uploaded once.
   if (lastFrame_.rayPattern != uploadedPattern_) {
-    staging.upload(batch, rayPattern_, std::span(std::as_const(lastFrame_.rayPattern)));
+    staging.upload(batch, rayPattern_, std::span(*lastFrame_.rayPattern));
     uploadedPattern_ = lastFrame_.rayPattern;
   }
   staging.upload(batch, pageChanged_, std::span(std::as_const(lastFrame_.pageChanged)));

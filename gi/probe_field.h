@@ -131,7 +131,8 @@ class ProbeField {
   ProbeFieldSizes sizes_;
   ProbeFieldFrameBuilder builder_;
   ProbeFieldFrame lastFrame_;
-  std::vector<glm::vec4> uploadedPattern_;  // the ray pattern the device buffer holds
+  // The ray pattern the device buffer holds (kept, so a new pattern never shares its address).
+  std::shared_ptr<const std::vector<glm::vec4>> uploadedPattern_;
   // The passes that bind the traced atlas, specialized on which one it is
   // (GpuStackScene::cellCorners, sdf_trace.glsl kSdfCellCorners); sampling binds the distances.
   gpu::ComputePipelinePair classify_, cacheCheck_, select_, trace_, bounce_, blend_;
@@ -140,8 +141,9 @@ class ProbeField {
   gpu::ComputePipelinePair sample_;
   const gpu::ComputePipeline& sampleVariant(bool halfResolution);
   gpu::ComputePipeline upsample_;
-  // frame_, volumes_, rayPattern_ and pageChanged_ are written every frame through the staging
-  // ring; the statistics go back through one readback buffer per frame in flight.
+  // frame_, volumes_ and pageChanged_ are written every frame through the staging ring,
+  // rayPattern_ whenever the frame's pattern is a new one; the statistics go back through one
+  // readback buffer per frame in flight.
   gpu::Buffer frame_, volumes_, data_, history_, irradiance_, depth_, rays_, cache_, rayPattern_,
       list_, statsBuffer_, pageChanged_;
   std::vector<gpu::Buffer> statsReadback_;

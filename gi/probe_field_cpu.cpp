@@ -165,7 +165,7 @@ void ProbeFieldCpu::update(const CascadeStackImage& stack, std::span<const std::
   field_detail::FieldPasses base(stack);
   base.lightRadiance = light.data();
   base.volumes = frame_.volumes.data();
-  base.rayPattern = frame_.rayPattern.data();
+  base.rayPattern = frame_.rayPattern->data();
   base.pageChanged = frame_.pageChanged.data();
   base.irradiance = irradiance_.data();
   base.depth = depth_.data();
@@ -383,7 +383,7 @@ glm::vec3 ProbeFieldCpu::probePosition(std::uint32_t g) const {
 glm::vec2 ProbeFieldCpu::traceFresh(const CascadeStackImage& stack, std::uint32_t g,
                                     std::uint32_t slot, std::uint32_t ray) const {
   field_detail::FieldPasses base(stack);
-  base.rayPattern = frame_.rayPattern.data();
+  base.rayPattern = frame_.rayPattern->data();
   const std::uint32_t c = g / settings_.probesPerVolume();
   const glm::vec3 dir = base.probeRotationSlotDirection(slot, ray, settings_.raysPerProbe);
   const auto h = base.probeTraceFresh(frame_.constants, c, probePosition(g), dir);

@@ -44,19 +44,23 @@ ProbeFieldFrame ProbeFieldFrameBuilder::build(const CascadeStackImage& stack,
   const std::uint64_t mix = s.rotationSeed * 0x9E3779B97F4A7C15ull;
   const std::uint64_t selectionFrame = frame + in.updateShift;
   if (cycle) {
-    if (pattern_.empty()) {
+    if (!pattern_) {
+      auto pattern = std::make_shared<std::vector<glm::vec4>>();
       for (std::uint32_t r = 0; r < slots; ++r) {
         const glm::mat3 m = randomRotation(mix + r);
-        for (int k = 0; k < 3; ++k) pattern_.push_back(glm::vec4(m[k], 0.0f));
+        for (int k = 0; k < 3; ++k) pattern->push_back(glm::vec4(m[k], 0.0f));
       }
       for (std::uint32_t r = 0; r < slots; ++r)
-        appendDepthRayLists(randomRotation(mix + r), s.raysPerProbe, s.depthSharpness, pattern_);
+        appendDepthRayLists(randomRotation(mix + r), s.raysPerProbe, s.depthSharpness, *pattern);
+      pattern_ = std::move(pattern);
     }
     out.rayPattern = pattern_;
   } else {
+    auto pattern = std::make_shared<std::vector<glm::vec4>>();
     const glm::mat3 m = randomRotation(mix + 1000003u + selectionFrame);
-    for (int k = 0; k < 3; ++k) out.rayPattern.push_back(glm::vec4(m[k], 0.0f));
-    appendDepthRayLists(m, s.raysPerProbe, s.depthSharpness, out.rayPattern);
+    for (int k = 0; k < 3; ++k) pattern->push_back(glm::vec4(m[k], 0.0f));
+    appendDepthRayLists(m, s.raysPerProbe, s.depthSharpness, *pattern);
+    out.rayPattern = std::move(pattern);
   }
 
   std::vector<glm::ivec3> gridOrigins(cascades);

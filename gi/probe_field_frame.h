@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -189,9 +190,9 @@ struct ProbeFieldFrame {
   std::vector<gpu_shared::ProbeVolume> volumes;
   std::vector<std::uint32_t> pageChanged;  // cascades x 128 words: bit i = entry i changed
   // The ray pattern: cacheRotations x 3 rotation columns, then each slot's depth texels' ray
-  // lists (probe_layout.h, kProbeDepthList*). With the hit cache the same every frame; without
-  // it one fresh rotation a frame.
-  std::vector<glm::vec4> rayPattern;
+  // lists (probe_layout.h, kProbeDepthList*). With the hit cache every frame shares one pattern
+  // (the same pointer: ProbeField uploads it once); without it one fresh rotation a frame.
+  std::shared_ptr<const std::vector<glm::vec4>> rayPattern;
 };
 
 // Builds successive frames; remembers the previous frame's windows and page tables.
@@ -211,7 +212,7 @@ class ProbeFieldFrameBuilder {
   bool driftedBefore_ = false;             // the previous frame had kProbeOptionLightsDrifting
   std::uint32_t updates_ = 0;        // frames built (the bounce cells' stamps; never restarts)
   std::uint32_t buildingUntil_ = 0;  // the bounces build up until here (new field, light switch)
-  std::vector<glm::vec4> pattern_;   // the rotation cycle's ray pattern (built once)
+  std::shared_ptr<const std::vector<glm::vec4>> pattern_;  // the cache's pattern (built once)
 };
 
 }  // namespace sdfstream::probe

@@ -188,15 +188,12 @@ vec3 probeMeanIrradiance(uint probe, float gamma) {
   return sum * (1.0f / float(kProbeIrradianceInterior * kProbeIrradianceInterior));
 }
 
-// The ray rotation of hit-cache slot `slot` (the ray pattern's first 3 x slots vec4; with the
-// cache off, slot 0 holds this frame's fresh rotation).
-mat3 probeSlotRotation(uint slot) {
-  return mat3(vec3(PROBE_ROTATION(slot, 0u)), vec3(PROBE_ROTATION(slot, 1u)),
-              vec3(PROBE_ROTATION(slot, 2u)));
-}
-
+// Ray `ray` of n in hit-cache rotation slot `slot` (the ray pattern's first 3 x slots vec4; with
+// the cache off, slot 0 holds this frame's fresh rotation).
 vec3 probeRotationSlotDirection(uint slot, uint ray, uint n) {
-  return probeRayDirection(ray, n, probeSlotRotation(slot));
+  mat3 r = mat3(vec3(PROBE_ROTATION(slot, 0u)), vec3(PROBE_ROTATION(slot, 1u)),
+                vec3(PROBE_ROTATION(slot, 2u)));
+  return probeRayDirection(ray, n, r);
 }
 
 // Classify pass, one invocation per probe of every volume: scroll reset of newly entered probes,

@@ -34,15 +34,16 @@ TEST(ProbeFieldFrame, TheCachesPatternHoldsEverySlotAndNeverChanges) {
   const ProbeFieldFrame second = builder.build(image, in, 5);
   const std::size_t lists = std::size_t(gpu_shared::kProbeDepthInterior) *
                             gpu_shared::kProbeDepthInterior * gpu_shared::kProbeDepthListVec4s;
-  ASSERT_EQ(first.rayPattern.size(), 4 * (3 + lists));
-  EXPECT_EQ(first.rayPattern, second.rayPattern);
+  const std::vector<glm::vec4>& pattern = *first.rayPattern;
+  ASSERT_EQ(pattern.size(), 4 * (3 + lists));
+  EXPECT_EQ(pattern, *second.rayPattern);
   EXPECT_EQ(first.constants.selection.z, 4u);
   for (int a = 0; a < 4; ++a)
     for (int b = a + 1; b < 4; ++b) {
-      EXPECT_NE(first.rayPattern[3 * a], first.rayPattern[3 * b]);
+      EXPECT_NE(pattern[3 * a], pattern[3 * b]);
       // Each slot's lists are its own rotation's: the first texel's lists differ somewhere.
-      const auto la = first.rayPattern.begin() + 12 + a * lists;
-      const auto lb = first.rayPattern.begin() + 12 + b * lists;
+      const auto la = pattern.begin() + 12 + a * lists;
+      const auto lb = pattern.begin() + 12 + b * lists;
       EXPECT_FALSE(std::equal(la, la + lists, lb));
     }
   EXPECT_EQ(first.constants.options.y, 5u);
@@ -61,8 +62,8 @@ TEST(ProbeFieldFrame, WithoutTheCacheEachUpdateTakesAFreshRotation) {
   in.updateShift = 1;
   const ProbeFieldFrame c = builder.build(image, in, 5);
   EXPECT_EQ(a.constants.selection.z, 1u);
-  EXPECT_NE(a.rayPattern[0], b.rayPattern[0]);
-  EXPECT_EQ(b.rayPattern[0], c.rayPattern[0]);  // frame 5 + shift 1 counts as frame 6
+  EXPECT_NE((*a.rayPattern)[0], (*b.rayPattern)[0]);
+  EXPECT_EQ((*b.rayPattern)[0], (*c.rayPattern)[0]);  // frame 5 + shift 1 counts as frame 6
 }
 
 TEST(ProbeFieldFrame, TheCatchUpTakesItsOwnHysteresisAndTheVigilanceCounts) {
