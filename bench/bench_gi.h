@@ -38,6 +38,9 @@ struct GiBenchOptions {
   int width = 160, height = 120;    // of every view
   std::uint32_t samples = 512;      // reference paths per point
   int warmup = 32, measured = 6, offFrames = 8, convergeCap = 32;
+  // --gpu-table: after the measured frames, run on to this frame and measure again: the settled
+  // field's cost beside the young field's (0: skip).
+  int settledFrames = 0;
   // --gpu-table: run the configuration list this many times in turn and keep, per configuration,
   // the round with the least probe update + sampling time (the card's clock state can change
   // within a run; the least time is the one least disturbed).

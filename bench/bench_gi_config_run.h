@@ -69,6 +69,8 @@ class ConfigRun {
     return gi_.update(*st_.stack, dirty, lights_, in_, frame_++);
   }
 
+  std::uint64_t frame() const { return frame_; }
+
   // Relights every resident page `repeats` times (a new light version each frame) after the
   // run has settled: the median light-cache time of a warm full relight. The first frame's
   // relight also pays the first upload's cold caches.

@@ -353,6 +353,45 @@ void writeScene(std::ostringstream& md, const SceneReport& s, const fs::path& ou
   }
 }
 
+// The gpu table's second view of each configuration: the same passes once the field has
+// settled, beside the young field's probe counts and states.
+void writeSettledTable(std::ostringstream& md, const SceneReport& s) {
+  bool header = false;
+  for (const ConfigResult& c : s.configs) {
+    const ConfigResult::Settled& z = c.settled;
+    if (z.afterFrames == 0) continue;
+    if (!header) {
+      md << "\nSettled field: each configuration run on to frame " << z.afterFrames
+         << " and measured again (" << s.measuredFrames
+         << " frames): what a frame costs while nothing changes, most probes asleep and "
+            "refreshed on their schedule. The table above measures the young field (every live "
+            "probe vigilant, the cost after a light switch or in a new area).\n\n| config | "
+            "probes updated, young → settled | states off / sleeping / awake / vigilant, young "
+            "→ settled | classify | select | trace | bounce cells | blend | **probe update** | "
+            "sampling | rays cached |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+      header = true;
+    }
+    auto pass = [&](const char* n) {
+      auto it = z.passMs.find(n);
+      return it == z.passMs.end() ? 0.0 : it->second;
+    };
+    auto states = [](const std::uint32_t(&k)[4]) {
+      return std::to_string(k[0]) + " / " + std::to_string(k[1]) + " / " + std::to_string(k[2]) +
+             " / " + std::to_string(k[3]);
+    };
+    md << "| " << c.config << " | " << fmt("%.0f", c.probesUpdated) << " → "
+       << fmt("%.0f", z.probesUpdated) << " | " << states(c.probeStates) << " → "
+       << states(z.probeStates) << " | " << fmt("%.3f", pass("probe_classify")) << " | "
+       << fmt("%.3f",
+              pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args"))
+       << " | " << fmt("%.3f", pass("probe_trace")) << " | "
+       << fmt("%.3f",
+              pass("probe_bounce_cells") + pass("probe_bounce_rays") + pass("probe_bounce_own"))
+       << " | " << fmt("%.3f", pass("probe_blend")) << " | " << fmt("%.3f", z.updateMs) << " | "
+       << fmt("%.3f", z.sampleMs) << " | " << fmt("%.0f", z.raysCached) << " |\n";
+  }
+}
+
 }  // namespace
 
 void writeBenchGiOutputs(const fs::path& outDir, std::vector<SceneReport>& scenes,
@@ -391,7 +430,8 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
   csv << "scene,config,probes,rays,classify_ms,select_ms,trace_ms,bounce_ms,blend_ms,"
          "update_ms,"
          "sample_ms,sample_ns_per_query,light_relight_ms,light_relight_warm_ms,probes_updated,"
-         "rays_traced,rays_cached,fresh_grays_per_s,memory_mib\n";
+         "rays_traced,rays_cached,fresh_grays_per_s,memory_mib,settled_after_frames,"
+         "settled_update_ms,settled_sample_ms,settled_probes_updated\n";
   for (const ConfigResult& c : s.configs) {
     auto pass = [&](const char* n) {
       auto it = c.passMs.find(n);
@@ -419,8 +459,10 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
         << ',' << pass("probe_blend") << ',' << c.updateMs << ',' << c.sampleMs << ','
         << c.sampleNsPerQuery << ',' << c.lightRelightMs << ',' << c.lightRelightWarmMs << ','
         << c.probesUpdated << ',' << c.raysTraced << ',' << c.raysCached << ',' << freshRate << ','
-        << c.memoryMiB() << '\n';
+        << c.memoryMiB() << ',' << c.settled.afterFrames << ',' << c.settled.updateMs << ','
+        << c.settled.sampleMs << ',' << c.settled.probesUpdated << '\n';
   }
+  writeSettledTable(md, s);
   md << "\nLight cache under a sun that moves every frame (time of day): a new light every "
         "frame, at most the budget's pages relit per frame (LightRelightQueue: the longest out "
         "of date first), median over 16 frames after 64; staleness = the most frames any "

@@ -177,6 +177,7 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
   std::map<std::string, std::vector<double>> passes;
   std::vector<double> update, sample, probesUpdated, raysTraced, raysCached, steps;
   std::vector<glm::vec3> e;
+  std::uint32_t lastStates[4] = {};
   for (int m = 0; m < opt.measured; ++m) {
     const GiFrameStats s = step();
     double total = 0.0;
@@ -198,6 +199,7 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
           s.probes.states[gpu_shared::kProbeSleeping], s.probes.states[gpu_shared::kProbeAwake],
           s.probes.states[gpu_shared::kProbeVigilant]);
     update.push_back(total);
+    for (int k = 0; k < 4; ++k) lastStates[k] = s.probes.states[k];
     probesUpdated.push_back(s.probes.probesUpdated);
     raysTraced.push_back(s.probes.raysTraced);
     raysCached.push_back(s.probes.raysCached);
@@ -249,6 +251,7 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
                    *std::max_element(sample.begin(), sample.end()) / views;
   r.sampleNsPerQuery =
       sc_.queries.empty() ? 0.0 : median(sample) * 1e6 / double(sc_.queries.size());
+  for (int k = 0; k < 4; ++k) r.probeStates[k] = lastStates[k];
   r.probesUpdated = median(probesUpdated);
   r.raysTraced = median(raysTraced);
   r.raysCached = median(raysCached);
@@ -391,6 +394,20 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
   if (sc.warmGpu) sc.warmGpu();
   const std::vector<glm::vec3> e = run.measure(r);
   if (!sc.points.reference.empty()) score(sc.points, e, r);
+  if (opt.gpuTable && opt.settledFrames > 0 && run.frame() < std::uint64_t(opt.settledFrames)) {
+    while (run.frame() < std::uint64_t(opt.settledFrames)) run.step();
+    if (sc.warmGpu) sc.warmGpu();
+    ConfigResult later = describe(cfg);
+    run.measure(later);
+    r.settled.afterFrames = std::uint64_t(opt.settledFrames);
+    r.settled.updateMs = later.updateMs;
+    r.settled.sampleMs = later.sampleMs;
+    r.settled.probesUpdated = later.probesUpdated;
+    r.settled.raysTraced = later.raysTraced;
+    r.settled.raysCached = later.raysCached;
+    r.settled.passMs = later.passMs;
+    for (int k = 0; k < 4; ++k) r.settled.probeStates[k] = later.probeStates[k];
+  }
   if (opt.gpuTable) {
     r.lightRelightWarmMs = run.measureRelightMs(5);
     r.lightWork = run.lightWork();

@@ -79,7 +79,10 @@ constexpr const char* kHelp =
     "                 CPU (surface cells, shadow-ray steps, warp-steps); writes\n"
     "                 DIR/gpu-table-SCENE.md and .csv\n"
     "  --rounds N     with --gpu-table: run the configurations N times in turn and keep each\n"
-    "                 one's fastest round (a GPU's clocks can change within a run; default 1)\n";
+    "                 one's fastest round (a GPU's clocks can change within a run; default 1)\n"
+    "  --settled-frames N  with --gpu-table: after the measured frames run on to frame N and\n"
+    "                 measure again, the settled field's cost beside the young one's (default\n"
+    "                 160; 0: skip)\n";
 
 }  // namespace
 
@@ -87,7 +90,7 @@ int runBenchGi(int argc, char** argv) {
   Args args(argc, argv, 3,
             {"--scenes", "--out", "-o", "--data", "--large-world", "--width", "--height",
              "--samples", "--frames", "--measure", "--device", "--converge-cap", "--configs",
-             "--query-offset", "--diagnose-config", "--rounds"},
+             "--query-offset", "--diagnose-config", "--rounds", "--settled-frames"},
             {"--help", "-h", "--quick", "--no-peers", "--gpu-table", "--validation", "--verbose",
              "--diagnose"});
   if (args.has("--help") || args.has("-h")) {
@@ -116,6 +119,7 @@ int runBenchGi(int argc, char** argv) {
   opt.measured = args.integer("--measure", opt.measured, 1, 1000);
   opt.convergeCap = args.integer("--converge-cap", opt.convergeCap, 0, 100000);
   opt.rounds = args.integer("--rounds", opt.rounds, 1, 100);
+  opt.settledFrames = args.integer("--settled-frames", opt.settledFrames, 0, 100000);
   opt.queryOffsetVoxels = args.number("--query-offset", opt.queryOffsetVoxels);
   const auto scenes = args.value("--scenes");
   opt.scenes = scenes ? splitList(*scenes) : bench::defaultGiBenchScenes(opt);
