@@ -65,6 +65,8 @@ std::vector<GiConfig> bounceCellConfigs(int cascades, bool converge) {
 
 constexpr const char* kHalfResolutionChange =
     "sampled at half resolution, depth/normal-aware upsample";
+constexpr const char* kQuarterResolutionChange =
+    "sampled at quarter resolution (one pixel per 4×4), depth/normal-aware upsample";
 
 }  // namespace
 
@@ -83,6 +85,9 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
   add("plain-ddgi", "plain-ddgi", "", plainDdgi(), cascades, !quick);
   add("half-res", "ours", kHalfResolutionChange, def, cascades, false);
   out.back().halfResolution = true;
+  add("quarter-res", "ours", kQuarterResolutionChange, def, cascades, false);
+  out.back().halfResolution = true;
+  out.back().sampleBlock = 4;
   // The near-field gather (shaders/probe_near_field.glsl): rays per receiver to one probe
   // spacing, and to half of one.
   for (std::uint32_t rays : {16u, 64u}) {
@@ -224,7 +229,9 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""},
       {"half-res", "ours", kHalfResolutionChange, def, scene.defaultCascades, false, "default",
-       true}};
+       true},
+      {"quarter-res", "ours", kQuarterResolutionChange, def, scene.defaultCascades, false,
+       "default", true, 4}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   for (GiConfig& c : bounceCellConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   // The near-field gather's cost, at full and half resolution.

@@ -2,6 +2,7 @@
 // changed one at a time, and plain DDGI built from the same code as the baseline.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,8 @@ struct GiConfig {
   int cascades = 1;
   bool converge = true;  // measure frames to converge after a light switch
   std::string base;      // the configuration `change` is relative to ("" = none)
-  bool halfResolution = false;  // sampled at half resolution and upsampled
+  bool halfResolution = false;    // sampled at reduced resolution and upsampled
+  std::uint32_t sampleBlock = 2;  // with halfResolution: one pixel per block of this size sampled
 };
 
 // "chebyshev", "sdf", "chebyshev+sdf".

@@ -212,8 +212,9 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
       const std::size_t pixels = std::size_t(width) * height;
       double ms = 0.0;
       for (std::size_t k = 0; k < p.views(); ++k) {
-        const std::vector<glm::vec3> image = gi_.irradianceHalfResolution(
-            std::span(sc_.imageQueries).subspan(k * pixels, pixels), width, height);
+        const std::vector<glm::vec3> image =
+            gi_.irradianceHalfResolution(std::span(sc_.imageQueries).subspan(k * pixels, pixels),
+                                         width, height, cfg_.sampleBlock);
         ms += gi_.lastSampleMilliseconds();
         for (std::size_t i = p.start[k]; i < p.start[k + 1]; ++i)
           e[i] = image[std::size_t(p.pixel[i])];

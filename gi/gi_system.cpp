@@ -289,8 +289,10 @@ std::vector<glm::vec3> GiSystem::irradiance(std::span<const gpu_shared::ProbeQue
 }
 
 std::vector<glm::vec3> GiSystem::irradianceHalfResolution(
-    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height) {
-  return probes_.sampleHalfResolution(scene_, light_.radianceBuffer(), image, width, height);
+    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height,
+    std::uint32_t blockSize) {
+  return probes_.sampleHalfResolution(scene_, light_.radianceBuffer(), image, width, height,
+                                      blockSize);
 }
 
 std::array<const gpu::Buffer*, GiSystem::kSampleBindingCount> GiSystem::sampleBuffers() const {

@@ -127,9 +127,11 @@ class GiSystem {
   // tiles run fastest (ProbeField::sample).
   std::vector<glm::vec3> irradiance(std::span<const gpu_shared::ProbeQuery> queries);
   // The same for an image of queries (width × height, row by row; zero normal: no surface),
-  // sampled at half resolution and upsampled (ProbeField::sampleHalfResolution).
+  // sampled at one pixel per blockSize × blockSize block (2: half resolution, 4: quarter) and
+  // upsampled (ProbeField::sampleHalfResolution).
   std::vector<glm::vec3> irradianceHalfResolution(std::span<const gpu_shared::ProbeQuery> image,
-                                                  std::uint32_t width, std::uint32_t height);
+                                                  std::uint32_t width, std::uint32_t height,
+                                                  std::uint32_t blockSize = 2);
   double lastSampleMilliseconds() const;
   // What an engine binds to sample the probes in its own shader (sdfstream/probe_sample.glsl),
   // in binding order from SDFSTREAM_PROBE_BINDING: probe frame constants, volumes, probe data,

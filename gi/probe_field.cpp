@@ -264,13 +264,18 @@ std::vector<glm::vec3> ProbeField::sample(const GpuStackScene& scene, const gpu:
 
 std::vector<glm::vec3> ProbeField::sampleHalfResolution(
     const GpuStackScene& scene, const gpu::Buffer& light,
-    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height) {
+    std::span<const gpu_shared::ProbeQuery> image, std::uint32_t width, std::uint32_t height,
+    std::uint32_t blockSize) {
+  if (blockSize != 2 && blockSize != 4)
+    throw std::invalid_argument("ProbeField::sampleHalfResolution: block size " +
+                                std::to_string(blockSize) + " (2 or 4)");
   if (std::size_t(width) * height != image.size())
     throw std::invalid_argument(
         "ProbeField::sampleHalfResolution: " + std::to_string(image.size()) + " queries for a " +
         std::to_string(width) + "x" + std::to_string(height) + " image");
   if (image.empty()) return {};
-  const std::uint32_t lowWidth = (width + 1) / 2, lowHeight = (height + 1) / 2;
+  const std::uint32_t lowWidth = (width + blockSize - 1) / blockSize;
+  const std::uint32_t lowHeight = (height + blockSize - 1) / blockSize;
   const std::size_t qBytes = image.size() * sizeof(gpu_shared::ProbeQuery);
   const std::size_t rBytes = image.size() * sizeof(glm::vec4);
   const std::size_t lowBytes = std::size_t(lowWidth) * lowHeight * sizeof(glm::vec4);
@@ -280,9 +285,10 @@ std::vector<glm::vec3> ProbeField::sampleHalfResolution(
     halfResults_ = deviceBuffer(context_, lowBytes);
   std::memcpy(queries_.host(), image.data(), qBytes);
   ProbePushConstants pc{};
-  pc.dispatch = glm::uvec4(0u, halfResolutionInvocations(lowWidth, lowHeight), width, height);
+  pc.dispatch =
+      glm::uvec4(blockSize, halfResolutionInvocations(lowWidth, lowHeight), width, height);
   ProbePushConstants up{};
-  up.dispatch = glm::uvec4(0u, std::uint32_t(image.size()), width, height);
+  up.dispatch = glm::uvec4(blockSize, std::uint32_t(image.size()), width, height);
   gpu::CommandBatch batch = context_.beginBatch();
   queries_.recordCopy(batch, qBytes);
   batch.dispatch("probe_sample", sampleVariant(true), bindings(scene, light, true, &halfResults_),

@@ -72,15 +72,17 @@ class ProbeField {
   // 1.88 ms against 2.68 in pixel rows (docs/GPU_BUDGET.md).
   std::vector<glm::vec3> sample(const GpuStackScene& scene, const gpu::Buffer& lightRadiance,
                                 std::span<const gpu_shared::ProbeQuery> queries);
-  // The same at half resolution, for an image of queries (width × height, row by row; a pixel
-  // without a surface has a zero normal and gets 0): one query per 2×2 block is sampled, the
-  // others are filled in by a depth/normal-aware upsample (shaders/probe_upsample.glsl), so
-  // sampling costs about a quarter, at an error bench gi measures (its `half-res` config).
+  // The same at reduced resolution, for an image of queries (width × height, row by row; a
+  // pixel without a surface has a zero normal and gets 0): one query per blockSize × blockSize
+  // block is sampled (2: half resolution, 4: quarter), the others are filled in by a
+  // depth/normal-aware upsample (shaders/probe_upsample.glsl), so sampling costs about
+  // 1 / blockSize², at an error bench gi measures (its `half-res` and `quarter-res` configs).
   // Blocking; lastTimings() then holds probe_sample and probe_upsample.
   std::vector<glm::vec3> sampleHalfResolution(const GpuStackScene& scene,
                                               const gpu::Buffer& lightRadiance,
                                               std::span<const gpu_shared::ProbeQuery> image,
-                                              std::uint32_t width, std::uint32_t height);
+                                              std::uint32_t width, std::uint32_t height,
+                                              std::uint32_t blockSize = 2);
 
   // The probe buffers an engine's shader samples (sdfstream/probe_sample.glsl, bindings 0-4):
   // frame constants, volumes, probe data, irradiance, depth.

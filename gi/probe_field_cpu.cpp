@@ -363,10 +363,11 @@ std::vector<glm::vec3> ProbeFieldCpu::sampleNearField(
 
 std::vector<glm::vec3> ProbeFieldCpu::sampleHalfResolution(
     const CascadeStackImage& stack, std::span<const gpu_shared::ProbeQuery> image,
-    std::uint32_t width, std::uint32_t height) const {
-  const HalfResolutionPlan plan = planHalfResolution(image, width, height);
+    std::uint32_t width, std::uint32_t height, std::uint32_t blockSize) const {
+  const HalfResolutionPlan plan = planHalfResolution(image, width, height, blockSize);
   const std::vector<glm::vec3> sampled = sample(stack, plan.queries);
-  return upsampleHalfResolution(image, halfResolutionSamples(plan, sampled), width, height);
+  return upsampleHalfResolution(image, halfResolutionSamples(plan, sampled), width, height,
+                                blockSize);
 }
 
 }  // namespace sdfstream::probe

@@ -84,11 +84,12 @@ class ProbeFieldCpu {
                                          std::span<const std::uint32_t> lightRadiance,
                                          std::span<const gpu_shared::ProbeQuery> queries) const;
   // ProbeField::sampleHalfResolution's reference: an image of queries (width × height, row by
-  // row; zero normal: no surface) sampled at one pixel per 2×2 block in the GPU pass's order
-  // (gi/probe_upsample.h), the rest upsampled.
+  // row; zero normal: no surface) sampled at one pixel per blockSize × blockSize block in the
+  // GPU pass's order (gi/probe_upsample.h), the rest upsampled.
   std::vector<glm::vec3> sampleHalfResolution(const CascadeStackImage& stack,
                                               std::span<const gpu_shared::ProbeQuery> image,
-                                              std::uint32_t width, std::uint32_t height) const;
+                                              std::uint32_t width, std::uint32_t height,
+                                              std::uint32_t blockSize = 2) const;
 
   // Ray `ray` of hit-cache rotation slot `slot` of global probe g, traced afresh against `stack`
   // from the probe's current position with the last frame's constants (tests compare it with

@@ -2,8 +2,8 @@
 // Batched irradiance(x, n, view) queries of the probe field (probeFieldIrradiance): one
 // invocation per query (position.w = 1 + cascade samples that cascade alone, 0 = all);
 // results rgb = irradiance, a = 0. A query whose normal is zero has no surface: irradiance 0.
-// At half resolution, one invocation per 2×2 block of an image of queries (probe_upsample.glsl;
-// probe_upsample.comp then fills in the other pixels).
+// At reduced resolution, one invocation per S×S block of an image of queries (S = dispatch.x, 2
+// or 4; probe_upsample.glsl; probe_upsample.comp then fills in the other pixels).
 //
 // The SDF visibility tests dominate the pass (docs/GPU_BUDGET.md). Queries are expected in
 // pixel tiles (ProbeField::sample), so kProbeSampleShareLanes consecutive ones (a group) are
@@ -46,21 +46,23 @@ void main() {
   uint lane = gl_LocalInvocationIndex;
   uint lead = lane & ~(kProbeSampleShareLanes - 1u);
   bool valid = id < pc.dispatch.y;
-  // A list: query id, result id. At half resolution (kHalfImage; dispatch.zw = the
-  // full-resolution image's size, probe_upsample.glsl): the low-resolution pixel of invocation
-  // id in tile order, its block's sampled pixel's query, a result per low-resolution pixel.
+  // A list: query id, result id. At reduced resolution (kHalfImage; dispatch.x = the block size
+  // S, dispatch.zw = the full-resolution image's size, probe_upsample.glsl): the low-resolution
+  // pixel of invocation id in tile order, its block's sampled pixel's query, a result per
+  // low-resolution pixel.
   uint queryIndex = min(id, max(pc.dispatch.y, 1u) - 1u);
   uint resultIndex = id;
-  uint halfPixel = 0u;  // the sampled pixel's index in its block (4: none)
+  uint halfPixel = 0u;  // the sampled pixel's index in its block (S²: none)
   if (kHalfImage) {
+    uint size = pc.dispatch.x;
     uint width = pc.dispatch.z;
     uint height = pc.dispatch.w;
-    uint lowWidth = (width + 1u) / 2u;
+    uint lowWidth = (width + size - 1u) / size;
     uvec2 block = probeTiledPixel(id, lowWidth);
-    bool inside = block.x < lowWidth && block.y < (height + 1u) / 2u;
-    halfPixel = inside ? probeHalfSampledPixel(block, width, height) : 4u;
-    uvec2 pixel = block * 2u + uvec2(halfPixel & 1u, halfPixel >> 1u);
-    queryIndex = halfPixel < 4u ? pixel.x + width * pixel.y : 0u;
+    bool inside = block.x < lowWidth && block.y < (height + size - 1u) / size;
+    halfPixel = inside ? probeBlockSampledPixel(block, size, width, height) : size * size;
+    uvec2 pixel = block * size + uvec2(halfPixel % size, halfPixel / size);
+    queryIndex = halfPixel < size * size ? pixel.x + width * pixel.y : 0u;
     resultIndex = block.x + lowWidth * block.y;
     valid = valid && inside;
   }

@@ -1,15 +1,16 @@
-// Sampling the probe field at half resolution: which pixel of each 2×2 block is sampled, the
-// order the sampling pass visits the blocks in, and the depth/normal-aware upsample that gives
-// every other pixel its irradiance. Shared by probe_sample.comp (half mode), probe_upsample.comp
+// Sampling the probe field at reduced resolution: which pixel of each S×S block is sampled (S,
+// the block size, is 2 at half resolution and 4 at quarter resolution), the order the sampling
+// pass visits the blocks in, and the depth/normal-aware upsample that gives every other pixel
+// its irradiance. Shared by probe_sample.comp (its reduced-resolution mode), probe_upsample.comp
 // and their C++ reference (gi/probe_upsample.cpp), which includes this file inside a struct.
 //
 // The image is the caller's queries, one per pixel, row by row (ProbeQuery, probe_layout.h); a
 // pixel without a surface has the normal (0, 0, 0) and gets irradiance 0. The low-resolution
-// image has ceil(W / 2) × ceil(H / 2) pixels; its pixel (bx, by) is sampled at the first pixel of
-// the block (2bx, 2by) .. (2bx + 1, 2by + 1) that has a surface, in the order (0,0), (1,0),
-// (0,1), (1,1), and stores vec4(irradiance, that pixel's index 0-3 in the block), or w = -1
-// where no pixel of the block has a surface. So a sampled pixel keeps exactly its own
-// irradiance, and every other pixel's own block always has a sample to fall back on.
+// image has ceil(W / S) × ceil(H / S) pixels; its pixel (bx, by) is sampled at the first pixel of
+// the block (S bx, S by) .. (S bx + S − 1, S by + S − 1) that has a surface, row by row, and
+// stores vec4(irradiance, that pixel's index k = i + S j in the block), or w = -1 where no pixel
+// of the block has a surface. So a sampled pixel keeps exactly its own irradiance, and every
+// other pixel's own block always has a sample to fall back on.
 //
 // The includer defines PROBE_UPSAMPLE_QUERY(i) (the ProbeQuery of full-resolution pixel i) and,
 // for probeUpsamplePixel, PROBE_UPSAMPLE_LOW(i) (the vec4 of low-resolution pixel i).
@@ -36,15 +37,20 @@ uint probeTiledInvocations(uint width, uint height) {
   return ((width + 7u) / 8u) * ((height + 7u) / 8u) * 64u;
 }
 
-// Index 0-3 in its block of the pixel that low-resolution pixel (bx, by) samples, 4 if none has
-// a surface (pixels past the image's edge have none).
-uint probeHalfSampledPixel(uvec2 block, uint width, uint height) {
-  for (uint k = 0u; k < 4u; ++k) {
-    uvec2 p = block * 2u + uvec2(k & 1u, k >> 1u);
+// Index k = i + size j in its block of the pixel that low-resolution pixel (bx, by) samples,
+// size² if none has a surface (pixels past the image's edge have none).
+uint probeBlockSampledPixel(uvec2 block, uint size, uint width, uint height) {
+  for (uint k = 0u; k < size * size; ++k) {
+    uvec2 p = block * size + uvec2(k % size, k / size);
     if (p.x < width && p.y < height && probeQueryHasSurface(PROBE_UPSAMPLE_QUERY(p.x + width * p.y)))
       return k;
   }
-  return 4u;
+  return size * size;
+}
+
+// The same at half resolution (2×2 blocks: 0-3, 4 if none).
+uint probeHalfSampledPixel(uvec2 block, uint width, uint height) {
+  return probeBlockSampledPixel(block, 2u, width, height);
 }
 
 // How much a sample taken at (pk, nk) may stand for a receiver at (p, n), in [0, 1]: both
@@ -65,27 +71,28 @@ float probeUpsampleSimilarity(vec3 p, vec3 n, vec3 pk, vec3 nk) {
 }
 
 #ifdef PROBE_UPSAMPLE_LOW
-// Irradiance at full-resolution pixel (x, y): its own sample where it was sampled; else the
-// bilinear neighbours among the low-resolution samples (its own block and the next ones in x
-// and y), each weighted by its similarity; where none is similar enough, the most similar one
-// (its own block's at worst: never a pixel without a surface).
-vec3 probeUpsamplePixel(uint x, uint y, uint width, uint height) {
+// Irradiance at full-resolution pixel (x, y) of an image sampled in size × size blocks: its own
+// sample where it was sampled; else the bilinear neighbours among the low-resolution samples
+// (its own block and the next ones in x and y), each weighted by its similarity; where none is
+// similar enough, the most similar one (its own block's at worst: never a pixel without a
+// surface).
+vec3 probeUpsampleBlockPixel(uint x, uint y, uint size, uint width, uint height) {
   ProbeQuery q = PROBE_UPSAMPLE_QUERY(x + width * y);
   if (!probeQueryHasSurface(q)) return vec3(0.0f);
-  uint lowWidth = (width + 1u) / 2u;
-  uint lowHeight = (height + 1u) / 2u;
-  vec4 own = PROBE_UPSAMPLE_LOW(x / 2u + lowWidth * (y / 2u));
+  uint lowWidth = (width + size - 1u) / size;
+  uint lowHeight = (height + size - 1u) / size;
+  vec4 own = PROBE_UPSAMPLE_LOW(x / size + lowWidth * (y / size));
   uint ownPixel = uint(max(own.w, 0.0f));
-  if ((ownPixel & 1u) == (x & 1u) && (ownPixel >> 1u) == (y & 1u)) return vec3(own);
+  if (ownPixel % size == x % size && ownPixel / size == y % size) return vec3(own);
   vec3 p = vec3(q.position);
   vec3 n = vec3(q.normal);
-  // A block's sample usually lies at its first pixel (2bx, 2by), so the pixel's low-resolution
-  // coordinates are (x / 2, y / 2): its own block, and half way to the next where it is odd.
-  // Linear irradiance on a plane is then reproduced exactly.
-  int x0 = int(x / 2u);
-  int y0 = int(y / 2u);
-  float fx = (x & 1u) != 0u ? 0.5f : 0.0f;
-  float fy = (y & 1u) != 0u ? 0.5f : 0.0f;
+  // A block's sample usually lies at its first pixel (S bx, S by), so the pixel's
+  // low-resolution coordinates are (x / S, y / S): its own block, and (x mod S) / S of the way
+  // to the next. Linear irradiance on a plane is then reproduced exactly.
+  int x0 = int(x / size);
+  int y0 = int(y / size);
+  float fx = float(x % size) / float(size);
+  float fy = float(y % size) / float(size);
   vec3 sum = vec3(0.0f);
   float weights = 0.0f;
   float best = -1.0f;
@@ -96,8 +103,8 @@ vec3 probeUpsamplePixel(uint x, uint y, uint width, uint height) {
     vec4 neighbour = PROBE_UPSAMPLE_LOW(uint(bx) + lowWidth * uint(by));
     if (neighbour.w < 0.0f) continue;
     uint sampled = uint(neighbour.w);
-    uint sx = uint(bx) * 2u + (sampled & 1u);
-    uint sy = uint(by) * 2u + (sampled >> 1u);
+    uint sx = uint(bx) * size + sampled % size;
+    uint sy = uint(by) * size + sampled / size;
     ProbeQuery s = PROBE_UPSAMPLE_QUERY(sx + width * sy);
     float similarity = probeUpsampleSimilarity(p, n, vec3(s.position), vec3(s.normal));
     float bilinear = ((k & 1u) != 0u ? fx : 1.0f - fx) * ((k >> 1u) != 0u ? fy : 1.0f - fy);
@@ -110,5 +117,10 @@ vec3 probeUpsamplePixel(uint x, uint y, uint width, uint height) {
   }
   // 1e-3: at least one neighbour about as alike as a coplanar one at 0.1% of its bilinear share.
   return weights > 1e-3f ? sum / weights : bestValue;
+}
+
+// The same at half resolution (2×2 blocks).
+vec3 probeUpsamplePixel(uint x, uint y, uint width, uint height) {
+  return probeUpsampleBlockPixel(x, y, 2u, width, height);
 }
 #endif

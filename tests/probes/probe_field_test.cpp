@@ -161,28 +161,33 @@ TEST_F(ProbeFieldTest, HalfResolutionSamplingMatchesCpu) {
       }
       image.push_back(q);
     }
-  const auto gpu =
-      h.gpuField->sampleHalfResolution(*h.scene, h.lightGpu->radianceBuffer(), image, w, hgt);
-  const auto cpu = h.cpuField->sampleHalfResolution(img, image, w, hgt);
-  ASSERT_EQ(gpu.size(), image.size());
-  const float worst = test::worstRelative<glm::vec3, 3>(cpu, gpu, 1e-3f);
-  float mean = 0.0f;
-  for (std::size_t i = 0; i < image.size(); ++i) {
-    mean += (cpu[i].x + cpu[i].y + cpu[i].z) / 3.0f / float(image.size());
-    if (image[i].normal == glm::vec4(0.0f)) {
-      EXPECT_EQ(gpu[i], glm::vec3(0.0f)) << i;
-      EXPECT_EQ(cpu[i], glm::vec3(0.0f)) << i;
+  for (const std::uint32_t block : {2u, 4u}) {
+    const auto gpu = h.gpuField->sampleHalfResolution(*h.scene, h.lightGpu->radianceBuffer(), image,
+                                                      w, hgt, block);
+    const auto cpu = h.cpuField->sampleHalfResolution(img, image, w, hgt, block);
+    ASSERT_EQ(gpu.size(), image.size());
+    const float worst = test::worstRelative<glm::vec3, 3>(cpu, gpu, 1e-3f);
+    float mean = 0.0f;
+    for (std::size_t i = 0; i < image.size(); ++i) {
+      mean += (cpu[i].x + cpu[i].y + cpu[i].z) / 3.0f / float(image.size());
+      if (image[i].normal == glm::vec4(0.0f)) {
+        EXPECT_EQ(gpu[i], glm::vec3(0.0f)) << i;
+        EXPECT_EQ(cpu[i], glm::vec3(0.0f)) << i;
+      }
     }
+    std::vector<std::string> names;
+    for (const auto& t : h.gpuField->lastTimings()) names.push_back(t.name);
+    std::printf(
+        "[figures] reduced-resolution sampling (%ux%u blocks) GPU vs CPU: %ux%u pixels, %zu "
+        "without a surface, mean %.4f, max rel diff %.2e\n",
+        block, block, w, hgt, holes, mean, worst);
+    EXPECT_LE(worst, 1e-3f) << block;
+    EXPECT_GT(mean, 0.0f) << block;
+    EXPECT_EQ(names, (std::vector<std::string>{"probe_sample", "probe_upsample"}));
   }
-  std::vector<std::string> names;
-  for (const auto& t : h.gpuField->lastTimings()) names.push_back(t.name);
-  std::printf(
-      "[figures] half-resolution sampling GPU vs CPU: %ux%u pixels, %zu without a surface, mean "
-      "%.4f, max rel diff %.2e\n",
-      w, hgt, holes, mean, worst);
-  EXPECT_LE(worst, 1e-3f);
-  EXPECT_GT(mean, 0.0f);
-  EXPECT_EQ(names, (std::vector<std::string>{"probe_sample", "probe_upsample"}));
+  EXPECT_THROW(
+      h.gpuField->sampleHalfResolution(*h.scene, h.lightGpu->radianceBuffer(), image, w, hgt, 3),
+      std::invalid_argument);
 }
 
 // probe_blend.comp stages a probe's rays in shared memory 128 at a time; with more rays than
