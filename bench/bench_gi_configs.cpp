@@ -130,6 +130,15 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
     ProbeFieldSettings s = base;
     s.hitCache = false;
     add(prefix + "no-hit-cache", "ours", "hit cache off", s, cascades, !quick);
+    if (!quick)
+      // A settled probe holds the mean over its cache's rotations' fixed directions: more
+      // rotations, less of each probe's frozen sampling error, more cache memory.
+      for (std::uint32_t r : {8u, 16u}) {
+        s = base;
+        s.cacheRotations = r;
+        add("cache-rotations-" + std::to_string(r), "ours",
+            "hit cache of " + std::to_string(r) + " rotations", s, cascades, true);
+      }
     s = base;
     s.states = false;
     add(prefix + "no-states", "ours", "states off", s, cascades, !quick);
