@@ -84,9 +84,8 @@ std::vector<GiConfig> sweepConfigs(const BenchScene& scene, bool quick) {
   add("default", "ours", "", def, cascades, !quick);
   add("plain-ddgi", "plain-ddgi", "", plainDdgi(), cascades, !quick);
   add("half-res", "ours", kHalfResolutionChange, def, cascades, false);
-  out.back().halfResolution = true;
+  out.back().sampleBlock = 2;
   add("quarter-res", "ours", kQuarterResolutionChange, def, cascades, false);
-  out.back().halfResolution = true;
   out.back().sampleBlock = 4;
   // The near-field gather (shaders/probe_near_field.glsl): rays per receiver to one probe
   // spacing, and to half of one.
@@ -237,10 +236,9 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
       {"sdf-per-query", "ours", "each query traces its own SDF tests (no sharing)", perQuery,
        scene.defaultCascades, false, "default"},
       {"plain-ddgi", "plain-ddgi", "", plainDdgi(), scene.defaultCascades, false, ""},
-      {"half-res", "ours", kHalfResolutionChange, def, scene.defaultCascades, false, "default",
-       true},
+      {"half-res", "ours", kHalfResolutionChange, def, scene.defaultCascades, false, "default", 2},
       {"quarter-res", "ours", kQuarterResolutionChange, def, scene.defaultCascades, false,
-       "default", true, 4}};
+       "default", 4}};
   for (GiConfig& c : rayBudgetConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   for (GiConfig& c : bounceCellConfigs(scene.defaultCascades, false)) out.push_back(std::move(c));
   // The near-field gather's cost, at full and half resolution.
@@ -250,7 +248,7 @@ std::vector<GiConfig> gpuTableConfigs(const BenchScene& scene) {
     out.push_back(
         {half ? "near-field-16-half-res" : "near-field-16", "ours",
          std::string("near-field gather, 16 rays to 1 spacing") + (half ? ", half resolution" : ""),
-         s, scene.defaultCascades, false, "default", half});
+         s, scene.defaultCascades, false, "default", half ? 2u : 1u});
   }
   return out;
 }

@@ -17,8 +17,8 @@ struct GiConfig {
   int cascades = 1;
   bool converge = true;  // measure frames to converge after a light switch
   std::string base;      // the configuration `change` is relative to ("" = none)
-  bool halfResolution = false;    // sampled at reduced resolution and upsampled
-  std::uint32_t sampleBlock = 2;  // with halfResolution: one pixel per block of this size sampled
+  // Sampling: 1 every pixel; 2 or 4 one pixel per block of that size, the rest upsampled.
+  std::uint32_t sampleBlock = 1;
 };
 
 // "chebyshev", "sdf", "chebyshev+sdf".

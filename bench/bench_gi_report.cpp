@@ -353,6 +353,21 @@ void writeScene(std::ostringstream& md, const SceneReport& s, const fs::path& ou
   }
 }
 
+// A probe pass's median GPU time (0 where the configuration did not run it), and the select and
+// bounce passes as the gpu table's columns sum them.
+double passMs(const std::map<std::string, double>& passes, const char* name) {
+  auto it = passes.find(name);
+  return it == passes.end() ? 0.0 : it->second;
+}
+double selectMs(const std::map<std::string, double>& p) {
+  return passMs(p, "probe_select_count") + passMs(p, "probe_select_emit") +
+         passMs(p, "probe_select_args");
+}
+double bounceMs(const std::map<std::string, double>& p) {
+  return passMs(p, "probe_bounce_cells") + passMs(p, "probe_bounce_rays") +
+         passMs(p, "probe_bounce_own");
+}
+
 // The gpu table's second view of each configuration: the same passes once the field has
 // settled, beside the young field's probe counts and states.
 void writeSettledTable(std::ostringstream& md, const SceneReport& s) {
@@ -371,23 +386,16 @@ void writeSettledTable(std::ostringstream& md, const SceneReport& s) {
             "sampling | rays cached |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
       header = true;
     }
-    auto pass = [&](const char* n) {
-      auto it = z.passMs.find(n);
-      return it == z.passMs.end() ? 0.0 : it->second;
-    };
-    auto states = [](const std::uint32_t(&k)[4]) {
+    auto states = [](const std::array<std::uint32_t, 4>& k) {
       return std::to_string(k[0]) + " / " + std::to_string(k[1]) + " / " + std::to_string(k[2]) +
              " / " + std::to_string(k[3]);
     };
     md << "| " << c.config << " | " << fmt("%.0f", c.probesUpdated) << " → "
        << fmt("%.0f", z.probesUpdated) << " | " << states(c.probeStates) << " → "
-       << states(z.probeStates) << " | " << fmt("%.3f", pass("probe_classify")) << " | "
-       << fmt("%.3f",
-              pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args"))
-       << " | " << fmt("%.3f", pass("probe_trace")) << " | "
-       << fmt("%.3f",
-              pass("probe_bounce_cells") + pass("probe_bounce_rays") + pass("probe_bounce_own"))
-       << " | " << fmt("%.3f", pass("probe_blend")) << " | " << fmt("%.3f", z.updateMs) << " | "
+       << states(z.probeStates) << " | " << fmt("%.3f", passMs(z.passMs, "probe_classify")) << " | "
+       << fmt("%.3f", selectMs(z.passMs)) << " | " << fmt("%.3f", passMs(z.passMs, "probe_trace"))
+       << " | " << fmt("%.3f", bounceMs(z.passMs)) << " | "
+       << fmt("%.3f", passMs(z.passMs, "probe_blend")) << " | " << fmt("%.3f", z.updateMs) << " | "
        << fmt("%.3f", z.sampleMs) << " | " << fmt("%.0f", z.raysCached) << " |\n";
   }
 }
@@ -433,14 +441,9 @@ void writeGpuTable(const fs::path& outDir, const SceneReport& s, const RunInfo& 
          "rays_traced,rays_cached,fresh_grays_per_s,memory_mib,settled_after_frames,"
          "settled_update_ms,settled_sample_ms,settled_probes_updated\n";
   for (const ConfigResult& c : s.configs) {
-    auto pass = [&](const char* n) {
-      auto it = c.passMs.find(n);
-      return it == c.passMs.end() ? 0.0 : it->second;
-    };
-    const double select =
-        pass("probe_select_count") + pass("probe_select_emit") + pass("probe_select_args");
-    const double bounce =
-        pass("probe_bounce_cells") + pass("probe_bounce_rays") + pass("probe_bounce_own");
+    auto pass = [&](const char* n) { return passMs(c.passMs, n); };
+    const double select = selectMs(c.passMs);
+    const double bounce = bounceMs(c.passMs);
     // Fresh rays per second of the trace pass: its throughput when (nearly) every ray is traced
     // afresh (plain DDGI); with the hit cache it mostly measures shading, not traversal.
     const double freshRate =

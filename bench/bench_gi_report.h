@@ -64,14 +64,15 @@ struct ConfigResult {
   std::map<std::string, double> passMs;  // per probe pass
   // Work per frame (medians).
   double probesUpdated = 0, raysTraced = 0, raysCached = 0, steps = 0;
-  std::uint32_t probeStates[4] = {};  // the last measured frame's off, sleeping, awake, vigilant
+  std::array<std::uint32_t, 4>
+      probeStates{};  // the last measured frame's off, sleeping, awake, vigilant
   // --gpu-table with settled frames: the same medians once the field has settled (most probes
   // asleep), what a frame costs while nothing changes; afterFrames 0: not measured.
   struct Settled {
     std::uint64_t afterFrames = 0;
     double updateMs = 0.0, sampleMs = 0.0, probesUpdated = 0, raysTraced = 0, raysCached = 0;
     std::map<std::string, double> passMs;
-    std::uint32_t probeStates[4] = {};
+    std::array<std::uint32_t, 4> probeStates{};
   } settled;
   // Error against the path-traced reference at the visible points of every view.
   double relMSE = -1.0;       // < 0: no reference

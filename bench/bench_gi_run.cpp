@@ -177,7 +177,6 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
   std::map<std::string, std::vector<double>> passes;
   std::vector<double> update, sample, probesUpdated, raysTraced, raysCached, steps;
   std::vector<glm::vec3> e;
-  std::uint32_t lastStates[4] = {};
   for (int m = 0; m < opt.measured; ++m) {
     const GiFrameStats s = step();
     double total = 0.0;
@@ -199,12 +198,12 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
           s.probes.states[gpu_shared::kProbeSleeping], s.probes.states[gpu_shared::kProbeAwake],
           s.probes.states[gpu_shared::kProbeVigilant]);
     update.push_back(total);
-    for (int k = 0; k < 4; ++k) lastStates[k] = s.probes.states[k];
+    std::copy(std::begin(s.probes.states), std::end(s.probes.states), r.probeStates.begin());
     probesUpdated.push_back(s.probes.probesUpdated);
     raysTraced.push_back(s.probes.raysTraced);
     raysCached.push_back(s.probes.raysCached);
     steps.push_back(double(s.probes.steps));
-    if (cfg_.halfResolution) {
+    if (cfg_.sampleBlock > 1) {
       e.resize(sc_.queries.size());
       const ViewPoints& p = sc_.points;
       const std::uint32_t width = std::uint32_t(std::max(p.width, 1));
@@ -230,7 +229,7 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
       std::printf("      frame %llu: relMSE %.4f\n", (unsigned long long)frame_ - 1,
                   reference::relMSE(e, sc_.points.reference));
   }
-  if (cfg_.halfResolution && !e.empty()) {
+  if (cfg_.sampleBlock > 1 && !e.empty()) {
     const std::vector<glm::vec3> tiled = gi_.irradiance(sc_.sampleQueries);
     std::vector<glm::vec3> full(tiled.size());
     for (std::size_t k = 0; k < tiled.size(); ++k) full[sc_.sampleOrder[k]] = tiled[k];
@@ -252,7 +251,6 @@ std::vector<glm::vec3> ConfigRun::measure(ConfigResult& r) {
                    *std::max_element(sample.begin(), sample.end()) / views;
   r.sampleNsPerQuery =
       sc_.queries.empty() ? 0.0 : median(sample) * 1e6 / double(sc_.queries.size());
-  for (int k = 0; k < 4; ++k) r.probeStates[k] = lastStates[k];
   r.probesUpdated = median(probesUpdated);
   r.raysTraced = median(raysTraced);
   r.raysCached = median(raysCached);
@@ -407,7 +405,7 @@ ConfigResult runConfig(SceneContext& sc, const GiConfig& cfg, std::vector<glm::v
     r.settled.raysTraced = later.raysTraced;
     r.settled.raysCached = later.raysCached;
     r.settled.passMs = later.passMs;
-    for (int k = 0; k < 4; ++k) r.settled.probeStates[k] = later.probeStates[k];
+    r.settled.probeStates = later.probeStates;
   }
   if (opt.gpuTable) {
     r.lightRelightWarmMs = run.measureRelightMs(5);

@@ -31,7 +31,7 @@ struct SceneContext {
   std::vector<gpu_shared::ProbeQuery> sampleQueries;
   std::vector<std::uint32_t> sampleOrder;
   // The same queries as images (views × width × height, row by row; pixels without a point
-  // have a zero normal), for sampling at half resolution (GiConfig::halfResolution).
+  // have a zero normal), for sampling at reduced resolution (GiConfig::sampleBlock).
   std::vector<gpu_shared::ProbeQuery> imageQueries;
   // --gpu-table: brings the GPU's clocks up (bench/gpu_clock_warmup.h) before a configuration's
   // timed frames; empty otherwise.
